@@ -1,0 +1,57 @@
+# The two set-up commands of the README: `make run` and `make test`. Both install whatever
+# Debian packages are missing, configure with CMake and build.
+SHELL := /bin/bash
+BUILD_DIR ?= build
+JOBS ?= $(shell nproc)
+GENERATOR := $(shell command -v ninja >/dev/null 2>&1 && echo "-G Ninja")
+
+# Debian packages the project builds with (see README "Dependencies").
+DEB_PACKAGES := cmake g++ make ninja-build pkg-config \
+  libeigen3-dev libboost1.81-dev nlohmann-json3-dev libsqlite3-dev \
+  libgtest-dev libgmock-dev libbenchmark-dev
+
+.PHONY: all deps build run test sanitize bench format clean
+
+all: build
+
+# Installs only the packages that are missing, non-interactively.
+deps:
+	@missing=""; \
+	for p in $(DEB_PACKAGES); do \
+	  dpkg-query -W -f='$${Status}' "$$p" 2>/dev/null | grep -q "install ok installed" || missing="$$missing $$p"; \
+	done; \
+	if [ -n "$$missing" ]; then \
+	  echo "Installing missing Debian packages:$$missing"; \
+	  sudo=""; [ "$$(id -u)" -eq 0 ] || sudo="sudo"; \
+	  $$sudo apt-get update -qq && \
+	  DEBIAN_FRONTEND=noninteractive $$sudo apt-get install -y -qq --no-install-recommends $$missing; \
+	fi
+
+$(BUILD_DIR)/release/CMakeCache.txt: | deps
+	cmake -S . -B $(BUILD_DIR)/release $(GENERATOR) -DCMAKE_BUILD_TYPE=Release
+
+build: deps $(BUILD_DIR)/release/CMakeCache.txt
+	cmake --build $(BUILD_DIR)/release -j $(JOBS)
+
+# Builds the release binary and runs it. The HTTP service (`brisance serve`) is not in this build
+# yet; until it lands this shows the CLI and a blast calculation.
+run: build
+	$(BUILD_DIR)/release/cli/brisance version
+	$(BUILD_DIR)/release/cli/brisance blast --charge-kg 100 --distance-m 15
+
+# The whole test suite, built with AddressSanitizer + UndefinedBehaviorSanitizer and warnings as
+# errors, run through CTest.
+test: deps
+	cmake -S . -B $(BUILD_DIR)/sanitize $(GENERATOR) -DCMAKE_BUILD_TYPE=Sanitize -DBRISANCE_WERROR=ON
+	cmake --build $(BUILD_DIR)/sanitize -j $(JOBS)
+	cd $(BUILD_DIR)/sanitize && ctest --output-on-failure -j $(JOBS)
+
+# Benchmarks need an optimised build.
+bench: build
+	$(BUILD_DIR)/release/bench/blast_bench
+
+format:
+	git ls-files '*.cpp' '*.hpp' | xargs clang-format -i
+
+clean:
+	rm -rf $(BUILD_DIR)

@@ -1,0 +1,52 @@
+// The one `brisance` binary: subcommands dispatch to their own files.
+// Exit codes (DESIGN.md): 0 success, 2 invalid input (message on stderr), 1 internal failure.
+#include <exception>
+#include <iostream>
+#include <span>
+#include <string_view>
+
+#include "cli/commands.hpp"
+
+namespace {
+
+constexpr std::string_view kUsage =
+    "usage: brisance <command> [options]\n"
+    "\n"
+    "commands:\n"
+    "  blast     blast-wave parameters of a charge at a distance (Kingery-Bulmash)\n"
+    "  version   print the version\n"
+    "  help      print this help\n"
+    "\n"
+    "Run 'brisance <command> --help' for the options of a command.\n";
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const std::span<char*> all(argv, static_cast<std::size_t>(argc));
+  if (all.size() < 2) {
+    std::cerr << "brisance: no command given (run 'brisance help' for the list)\n";
+    return brisance::cli::kExitInvalidInput;
+  }
+  const std::string_view command = all[1];
+  const brisance::cli::Args args(all.begin() + 2, all.end());
+  try {
+    if (command == "blast") return brisance::cli::run_blast(args, std::cout);
+    if (command == "version" || command == "--version") {
+      std::cout << "brisance " << BRISANCE_VERSION << "\n";
+      return brisance::cli::kExitOk;
+    }
+    if (command == "help" || command == "--help" || command == "-h") {
+      std::cout << kUsage;
+      return brisance::cli::kExitOk;
+    }
+    std::cerr << "brisance: unknown command '" << command
+              << "' (run 'brisance help' for the list)\n";
+    return brisance::cli::kExitInvalidInput;
+  } catch (const brisance::cli::UsageError& error) {
+    std::cerr << error.message << "\n";
+    return brisance::cli::kExitInvalidInput;
+  } catch (const std::exception& error) {
+    std::cerr << "brisance " << command << ": internal error: " << error.what() << "\n";
+    return brisance::cli::kExitInternal;
+  }
+}

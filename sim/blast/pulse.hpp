@@ -28,6 +28,9 @@ struct ExpPolyPiece {
   double pressure_pa(double t_s) const;
   // Exact integral of the piece over [t0_s, t1_s] (any interval; clipped to the window), Pa*s.
   double impulse_pa_s(double t0_s, double t1_s) const;
+  // Exact first moment about the interval's end, integral of (t1 - t) p(t) dt over [t0, t1],
+  // Pa*s^2: how far a load displaces a body within the step, beyond its impulse.
+  double moment_pa_s2(double t0_s, double t1_s) const;
 };
 
 // A pressure history: a fixed-capacity sum of pieces, so it lives inline in per-panel arrays.
@@ -42,6 +45,8 @@ class PressureHistory {
   double pressure_pa(double t_s) const;
   // Exact integral over [t0_s, t1_s], Pa*s; t is time since arrival (negative times give zero).
   double impulse_pa_s(double t0_s, double t1_s) const;
+  // Exact integral of (t1 - t) p(t) over [t0_s, t1_s], Pa*s^2.
+  double moment_pa_s2(double t0_s, double t1_s) const;
   double total_impulse_pa_s() const;
   // Time after which the history is zero, s.
   double end_s() const;
@@ -103,7 +108,9 @@ double friedlander_area_ratio(double decay);
 // [friedlander_area_ratio(kMaxFriedlanderDecay), e - 2].
 double solve_friedlander_decay(double ratio);
 
-// G_j(x) = integral_0^1 w^j exp(-x w) dw for j = 0..3, accurate for x >= kMinRate.
+// G_j(x) = integral_0^1 w^j exp(-x w) dw for j = 0..4, accurate for x >= 2 kMinRate.
 double unit_exp_moment(int j, double x);
+// All of G_0..G_4 at once, for the cost of one.
+void unit_exp_moments(double x, std::array<double, ExpPolyPiece::kMaxDegree + 2>& g);
 
 }  // namespace brisance::blast

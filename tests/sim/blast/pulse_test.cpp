@@ -20,7 +20,7 @@ double simpson(F&& f, double a, double b, int intervals = 20000) {
 }
 
 TEST(UnitExpMoment, MatchesQuadratureOnBothSidesOfTheSeriesSwitch) {
-  for (int j = 0; j <= 3; ++j) {
+  for (int j = 0; j <= 4; ++j) {
     for (double x : {-4.0, -1.0, -1e-9, 0.0, 1e-6, 0.5, 2.4999, 2.5001, 7.0, 40.0, 400.0}) {
       const double quad =
           simpson([&](double w) { return std::pow(w, j) * std::exp(-x * w); }, 0.0, 1.0, 200000);
@@ -151,6 +151,32 @@ TEST(ExpPolyPiece, CubicWithShiftedOriginMatchesQuadrature) {
   EXPECT_NEAR(piece.impulse_pa_s(0.0, 1.0), quad, 1e-8 * std::abs(quad));
   const double mid = simpson([&](double t) { return piece.pressure_pa(t); }, 0.5e-3, 0.6e-3);
   EXPECT_NEAR(piece.impulse_pa_s(0.5e-3, 0.6e-3), mid, 1e-10 * std::abs(mid));
+}
+
+}  // namespace
+}  // namespace brisance::blast
+
+namespace brisance::blast {
+namespace {
+
+TEST(PressureHistory, FirstMomentMatchesQuadratureAndIsConsistentWithImpulses) {
+  const Pulse pulse = make_pulse(PulseShape::friedlander, 2e5, 4e-3, 0.12 * 2e5 * 4e-3);
+  PressureHistory history;
+  history.add(pulse.piece());
+  history.add(pulse.squared_piece(5e4));
+  for (auto [a, b] : {std::pair{0.0, 4e-3}, {1e-3, 1.5e-3}, {-1e-3, 2e-3}, {3e-3, 6e-3},
+                      {2e-3, 2e-3 + 1e-9}}) {
+    const double quad = simpson([&](double t) { return (b - t) * history.pressure_pa(t); },
+                                std::max(a, 0.0), std::min(b, 4e-3 * (1 - 1e-12)), 200000);
+    EXPECT_NEAR(history.moment_pa_s2(a, b), quad, 1e-8 * std::abs(quad) + 1e-20)
+        << a << " " << b;
+  }
+  // Splitting [a, c] at b: M(a, c) = M(a, b) + (c - b) I(a, b) + M(b, c).
+  const double a = 0.3e-3, b = 1.7e-3, c = 3.1e-3;
+  EXPECT_NEAR(history.moment_pa_s2(a, c),
+              history.moment_pa_s2(a, b) + (c - b) * history.impulse_pa_s(a, b) +
+                  history.moment_pa_s2(b, c),
+              1e-12 * history.moment_pa_s2(a, c));
 }
 
 }  // namespace

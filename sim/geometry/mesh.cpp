@@ -1,0 +1,546 @@
+// sim/geometry/mesh: boxes, the closed-mesh check, exact mass properties and load panels.
+#include "sim/geometry/mesh.hpp"
+
+#include <algorithm>
+#include <cassert>
+#include <cmath>
+#include <cstddef>
+#include <limits>
+#include <numeric>
+#include <sstream>
+#include <tuple>
+#include <utility>
+
+#include <Eigen/Geometry>
+
+namespace brisance::geometry {
+
+namespace {
+
+using Vec2 = Eigen::Vector2d;
+
+// A triangle smaller than this fraction of the squared bounding-box diagonal is degenerate.
+constexpr double kDegenerateAreaFraction = 1e-12;
+// A mesh enclosing less than this fraction of the cubed bounding-box diagonal encloses nothing.
+constexpr double kFlatVolumeFraction = 1e-12;
+// Edge-connected triangles belong to one face when their unit normals agree within this angle…
+constexpr double kCoplanarAngleRad = 1e-6;
+// …and the vertices of each lie within this fraction of the mesh's bounding-box diagonal from the
+// other's plane. For edge-adjacent triangles this is the stricter test on any face wider than a
+// thousandth of the mesh: it keeps slight folds apart, but not rounding noise.
+constexpr double kCoplanarOffsetFraction = 1e-9;
+// At most this many sub-triangles per face (4^8 = 65536): a pathological max_panel_area stops
+// subdividing here instead of exhausting memory; the engine counts panels against its own limit.
+constexpr std::size_t kMaxSubTrianglesPerFace = std::size_t{1} << 16;
+
+struct Box3 {
+  Vec3 min = Vec3::Constant(std::numeric_limits<double>::infinity());
+  Vec3 max = Vec3::Constant(-std::numeric_limits<double>::infinity());
+  Vec3 centre() const { return 0.5 * (min + max); }
+  double diagonal() const { return (max - min).norm(); }
+};
+
+// Bounding box of the vertices the triangles use (unused vertices do not count). Indices must be
+// in range.
+Box3 used_bounding_box(const TriangleMesh& mesh) {
+  Box3 box;
+  for (const auto& tri : mesh.triangles) {
+    for (std::uint32_t index : tri) {
+      assert(index < mesh.vertices.size());
+      box.min = box.min.cwiseMin(mesh.vertices[index]);
+      box.max = box.max.cwiseMax(mesh.vertices[index]);
+    }
+  }
+  return box;
+}
+
+// Twice the vector area of a triangle: (b − a) × (c − a), along the outward normal for CCW.
+Vec3 doubled_vector_area(const TriangleMesh& mesh, const std::array<std::uint32_t, 3>& tri) {
+  const Vec3& a = mesh.vertices[tri[0]];
+  return (mesh.vertices[tri[1]] - a).cross(mesh.vertices[tri[2]] - a);
+}
+
+double triangle_area(const TriangleMesh& mesh, const std::array<std::uint32_t, 3>& tri) {
+  return 0.5 * doubled_vector_area(mesh, tri).norm();
+}
+
+// Signed volume enclosed by the triangles, with tetrahedra apexed at `apex` (any point works for
+// a closed mesh; a nearby one keeps the sum accurate far from the origin).
+double signed_volume(const TriangleMesh& mesh, const Vec3& apex) {
+  double six_volume = 0.0;
+  for (const auto& tri : mesh.triangles) {
+    const Vec3 a = mesh.vertices[tri[0]] - apex;
+    const Vec3 b = mesh.vertices[tri[1]] - apex;
+    const Vec3 c = mesh.vertices[tri[2]] - apex;
+    six_volume += a.dot(b.cross(c));
+  }
+  return six_volume / 6.0;
+}
+
+// One directed edge of a triangle, keyed by its undirected vertex pair.
+struct EdgeUse {
+  std::uint32_t low = 0;
+  std::uint32_t high = 0;
+  std::uint32_t triangle = 0;
+  bool low_to_high = true;  // the triangle runs low → high
+};
+
+// Every edge use, sorted by vertex pair and then triangle index, so the uses of one undirected
+// edge are adjacent.
+std::vector<EdgeUse> sorted_edge_uses(const TriangleMesh& mesh) {
+  std::vector<EdgeUse> uses;
+  uses.reserve(3 * mesh.triangles.size());
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+    const auto& tri = mesh.triangles[t];
+    for (int corner = 0; corner < 3; ++corner) {
+      const std::uint32_t from = tri[corner];
+      const std::uint32_t to = tri[(corner + 1) % 3];
+      uses.push_back(
+          {std::min(from, to), std::max(from, to), static_cast<std::uint32_t>(t), from < to});
+    }
+  }
+  std::sort(uses.begin(), uses.end(), [](const EdgeUse& x, const EdgeUse& y) {
+    return std::tie(x.low, x.high, x.triangle) < std::tie(y.low, y.high, y.triangle);
+  });
+  return uses;
+}
+
+// The uses of the undirected edge {a, b} within sorted_edge_uses' result.
+std::pair<std::size_t, std::size_t> edge_range(const std::vector<EdgeUse>& uses, std::uint32_t a,
+                                               std::uint32_t b) {
+  const EdgeUse key{std::min(a, b), std::max(a, b), 0, true};
+  const auto by_pair = [](const EdgeUse& x, const EdgeUse& y) {
+    return std::tie(x.low, x.high) < std::tie(y.low, y.high);
+  };
+  const auto [first, last] = std::equal_range(uses.begin(), uses.end(), key, by_pair);
+  return {static_cast<std::size_t>(first - uses.begin()),
+          static_cast<std::size_t>(last - uses.begin())};
+}
+
+// Why the edges do not close the surface consistently, naming the lowest-indexed triangle at
+// fault, or nullopt if every undirected edge is used exactly twice, once in each direction.
+std::optional<std::string> check_edges(const TriangleMesh& mesh) {
+  const std::vector<EdgeUse> uses = sorted_edge_uses(mesh);
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+    const auto& tri = mesh.triangles[t];
+    for (int corner = 0; corner < 3; ++corner) {
+      const std::uint32_t from = tri[corner];
+      const std::uint32_t to = tri[(corner + 1) % 3];
+      const auto [first, last] = edge_range(uses, from, to);
+      const std::size_t count = last - first;
+      std::ostringstream message;
+      if (count == 1) {
+        message << "edge (" << from << ", " << to << ") of triangle " << t
+                << " belongs to no other triangle: the mesh is open; close the hole";
+        return message.str();
+      }
+      if (count > 2) {
+        message << "edge (" << from << ", " << to << ") is shared by " << count << " triangles (";
+        for (std::size_t u = first; u < last; ++u)
+          message << (u == first ? "" : ", ") << "triangle " << uses[u].triangle;
+        message << "): the mesh is not manifold; every edge must join exactly two triangles";
+        return message.str();
+      }
+      if (uses[first].low_to_high == uses[first + 1].low_to_high) {
+        const std::uint32_t other =
+            uses[first].triangle == t ? uses[first + 1].triangle : uses[first].triangle;
+        message << "triangle " << t << " and triangle " << other << " both run edge " << from
+                << " -> " << to
+                << " in the same direction: the winding is inconsistent; flip one of them so "
+                   "that all triangles wind counter-clockwise seen from outside";
+        return message.str();
+      }
+    }
+  }
+  return std::nullopt;
+}
+
+// A unit vector perpendicular to the unit vector n.
+Vec3 any_perpendicular(const Vec3& n) {
+  Eigen::Index least_aligned = 0;
+  n.cwiseAbs().minCoeff(&least_aligned);
+  return n.cross(Vec3::Unit(least_aligned)).normalized();
+}
+
+double cross2(const Vec2& o, const Vec2& a, const Vec2& b) {
+  return (a.x() - o.x()) * (b.y() - o.y()) - (a.y() - o.y()) * (b.x() - o.x());
+}
+
+// Convex hull of 2D points, counter-clockwise, without collinear or repeated points (Andrew's
+// monotone chain: A. M. Andrew, Inf. Process. Lett. 9(5), 1979).
+std::vector<Vec2> convex_hull(std::vector<Vec2> points) {
+  std::sort(points.begin(), points.end(), [](const Vec2& p, const Vec2& q) {
+    return p.x() < q.x() || (p.x() == q.x() && p.y() < q.y());
+  });
+  if (points.size() < 3) return points;
+  std::vector<Vec2> hull(2 * points.size());
+  std::size_t size = 0;
+  for (const Vec2& p : points) {  // lower chain
+    while (size >= 2 && cross2(hull[size - 2], hull[size - 1], p) <= 0.0)
+      --size;
+    hull[size++] = p;
+  }
+  const std::size_t lower_size = size + 1;
+  for (std::size_t i = points.size() - 1; i-- > 0;) {  // upper chain
+    while (size >= lower_size && cross2(hull[size - 2], hull[size - 1], points[i]) <= 0.0)
+      --size;
+    hull[size++] = points[i];
+  }
+  hull.resize(size - 1);  // the last point repeats the first
+  return hull;
+}
+
+// Minimal width of a set of 2D points: the smallest distance between two parallel lines that
+// enclose them. It is attained with one line through an edge of the convex hull, so rotating
+// calipers (Toussaint, "Solving geometric problems with the rotating calipers", 1983) find it in
+// linear time over the hull.
+double minimal_width(const std::vector<Vec2>& points) {
+  const std::vector<Vec2> hull = convex_hull(points);
+  const std::size_t n = hull.size();
+  if (n < 3) return 0.0;
+  double width = std::numeric_limits<double>::infinity();
+  std::size_t far = 1;  // hull vertex farthest from the current edge; advances monotonically
+  for (std::size_t i = 0; i < n; ++i) {
+    const Vec2& a = hull[i];
+    const Vec2& b = hull[(i + 1) % n];
+    while (cross2(a, b, hull[(far + 1) % n]) > cross2(a, b, hull[far]))
+      far = (far + 1) % n;
+    width = std::min(width, cross2(a, b, hull[far]) / (b - a).norm());
+  }
+  return width;
+}
+
+// Disjoint sets over triangle indices (union by smaller root index, path halving).
+class DisjointSets {
+ public:
+  explicit DisjointSets(std::size_t count) : parent_(count) {
+    std::iota(parent_.begin(), parent_.end(), std::size_t{0});
+  }
+  std::size_t find(std::size_t x) {
+    while (parent_[x] != x) {
+      parent_[x] = parent_[parent_[x]];
+      x = parent_[x];
+    }
+    return x;
+  }
+  void unite(std::size_t x, std::size_t y) {
+    x = find(x);
+    y = find(y);
+    if (x != y) parent_[std::max(x, y)] = std::min(x, y);
+  }
+
+ private:
+  std::vector<std::size_t> parent_;
+};
+
+// What make_panels knows about one triangle.
+struct TriangleInfo {
+  Vec3 unit_normal = Vec3::Zero();
+  double area_m2 = 0.0;
+  bool usable = false;  // false for a zero-area triangle, which has no normal and no panel
+};
+
+// Whether two edge-adjacent triangles lie in one plane (see the thresholds above).
+bool coplanar(const TriangleMesh& mesh, std::size_t s, std::size_t t,
+              const std::vector<TriangleInfo>& info, double offset_tolerance_m) {
+  const Vec3& ns = info[s].unit_normal;
+  const Vec3& nt = info[t].unit_normal;
+  // atan2 keeps small angles accurate where acos of a dot product near 1 would not.
+  if (std::atan2(ns.cross(nt).norm(), ns.dot(nt)) > kCoplanarAngleRad) return false;
+  const auto off_plane = [&](std::size_t plane, std::size_t points) {
+    const Vec3& origin = mesh.vertices[mesh.triangles[plane][0]];
+    double worst = 0.0;
+    for (std::uint32_t index : mesh.triangles[points])
+      worst = std::max(worst, std::abs(info[plane].unit_normal.dot(mesh.vertices[index] - origin)));
+    return worst;
+  };
+  return off_plane(s, t) <= offset_tolerance_m && off_plane(t, s) <= offset_tolerance_m;
+}
+
+// Groups of edge-connected coplanar triangles, each listed in triangle order, the groups ordered
+// by their first triangle. Zero-area triangles belong to no group.
+std::vector<std::vector<std::uint32_t>> coplanar_faces(const TriangleMesh& mesh,
+                                                       const std::vector<TriangleInfo>& info,
+                                                       double offset_tolerance_m) {
+  DisjointSets sets(mesh.triangles.size());
+  const std::vector<EdgeUse> uses = sorted_edge_uses(mesh);
+  for (std::size_t first = 0; first < uses.size();) {
+    std::size_t last = first + 1;
+    while (last < uses.size() && uses[last].low == uses[first].low &&
+           uses[last].high == uses[first].high)
+      ++last;
+    // Normally two triangles share an edge; try every pair so odd meshes still group sensibly.
+    for (std::size_t i = first; i < last; ++i) {
+      for (std::size_t j = i + 1; j < last; ++j) {
+        const std::size_t s = uses[i].triangle;
+        const std::size_t t = uses[j].triangle;
+        if (s != t && info[s].usable && info[t].usable &&
+            coplanar(mesh, s, t, info, offset_tolerance_m))
+          sets.unite(s, t);
+      }
+    }
+    first = last;
+  }
+
+  constexpr std::size_t kNoFace = std::numeric_limits<std::size_t>::max();
+  std::vector<std::vector<std::uint32_t>> faces;
+  std::vector<std::size_t> face_of_root(mesh.triangles.size(), kNoFace);
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+    if (!info[t].usable) continue;
+    const std::size_t root = sets.find(t);
+    if (face_of_root[root] == kNoFace) {
+      face_of_root[root] = faces.size();
+      faces.emplace_back();
+    }
+    faces[face_of_root[root]].push_back(static_cast<std::uint32_t>(t));
+  }
+  return faces;
+}
+
+// Half the minimal width of a face's vertices measured in its plane: the clearing distance S.
+// Rejected: extents along the principal axes of the face's area second moment, which are
+// arbitrary for a square (its second moment is isotropic) and then give up to √2 too much.
+double face_half_size(const TriangleMesh& mesh, const std::vector<std::uint32_t>& face,
+                      const Vec3& normal, const Vec3& origin) {
+  const Vec3 u = any_perpendicular(normal);
+  const Vec3 v = normal.cross(u);
+  std::vector<std::uint32_t> corners;
+  corners.reserve(3 * face.size());
+  for (std::uint32_t t : face)
+    corners.insert(corners.end(), mesh.triangles[t].begin(), mesh.triangles[t].end());
+  std::sort(corners.begin(), corners.end());
+  corners.erase(std::unique(corners.begin(), corners.end()), corners.end());
+  std::vector<Vec2> points;
+  points.reserve(corners.size());
+  for (std::uint32_t index : corners) {
+    const Vec3 r = mesh.vertices[index] - origin;
+    points.emplace_back(r.dot(u), r.dot(v));
+  }
+  return 0.5 * minimal_width(points);
+}
+
+// Appends the 4^level similar sub-triangles that `level` rounds of midpoint subdivision cut from
+// triangle (a, b, c), as panels of the given normal and half size. The sub-triangles tile the
+// triangle as a grid of n = 2^level steps along b − a and c − a: n(n+1)/2 pointing like the
+// parent and n(n−1)/2 pointing the other way.
+void append_subdivided(const Vec3& a, const Vec3& b, const Vec3& c, double area_m2, int level,
+                       const Vec3& normal, double half_size_m, std::vector<Panel>& panels) {
+  const std::size_t n = std::size_t{1} << level;
+  const double sub_area_m2 = std::ldexp(area_m2, -2 * level);  // exact: a power of two
+  const Vec3 step_b = (b - a) / (3.0 * static_cast<double>(n));
+  const Vec3 step_c = (c - a) / (3.0 * static_cast<double>(n));
+  const auto add = [&](std::size_t thirds_b, std::size_t thirds_c) {
+    Panel panel;
+    panel.centre =
+        a + static_cast<double>(thirds_b) * step_b + static_cast<double>(thirds_c) * step_c;
+    panel.outward_normal = normal;
+    panel.area_m2 = sub_area_m2;
+    panel.face_half_size_m = half_size_m;
+    panels.push_back(panel);
+  };
+  for (std::size_t i = 0; i < n; ++i) {
+    for (std::size_t j = 0; i + j < n; ++j) {
+      // Corners (i, j), (i+1, j), (i, j+1) in grid steps; the centroid is their mean.
+      add(3 * i + 1, 3 * j + 1);
+      // Corners (i+1, j), (i+1, j+1), (i, j+1), inside the triangle when i + j ≤ n − 2.
+      if (i + j + 2 <= n) add(3 * i + 2, 3 * j + 2);
+    }
+  }
+}
+
+}  // namespace
+
+TriangleMesh make_box(const Vec3& size_m) {
+  assert(size_m.allFinite() && (size_m.array() > 0.0).all());
+  const Vec3 half = 0.5 * size_m;
+  TriangleMesh mesh;
+  // Vertex i has x, y, z at +half where bits 0, 1, 2 of i are set, at −half otherwise.
+  for (int i = 0; i < 8; ++i) {
+    mesh.vertices.emplace_back((i & 1) ? half.x() : -half.x(), (i & 2) ? half.y() : -half.y(),
+                               (i & 4) ? half.z() : -half.z());
+  }
+  // Each face as a quad counter-clockwise seen from outside, split along its first diagonal.
+  constexpr std::array<std::array<std::uint32_t, 4>, 6> quads = {{
+      {0, 4, 6, 2},  // −x
+      {1, 3, 7, 5},  // +x
+      {0, 1, 5, 4},  // −y
+      {2, 6, 7, 3},  // +y
+      {0, 2, 3, 1},  // −z
+      {4, 5, 7, 6},  // +z
+  }};
+  for (const auto& q : quads) {
+    mesh.triangles.push_back({q[0], q[1], q[2]});
+    mesh.triangles.push_back({q[0], q[2], q[3]});
+  }
+  return mesh;
+}
+
+std::optional<std::string> check_closed_mesh(const TriangleMesh& mesh) {
+  std::ostringstream message;
+  if (mesh.triangles.empty()) return "the mesh has no triangles; give at least four";
+
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+    for (std::uint32_t index : mesh.triangles[t]) {
+      if (index >= mesh.vertices.size()) {
+        message << "triangle " << t << " uses vertex " << index << ", but the mesh has only "
+                << mesh.vertices.size() << " vertices (indices start at 0)";
+        return message.str();
+      }
+    }
+  }
+
+  for (std::size_t i = 0; i < mesh.vertices.size(); ++i) {
+    if (!mesh.vertices[i].allFinite()) {
+      const Vec3& p = mesh.vertices[i];
+      message << "vertex " << i << " is not finite (" << p.x() << ", " << p.y() << ", " << p.z()
+              << ")";
+      return message.str();
+    }
+  }
+
+  // Degeneracy relative to the mesh's size, so a millimetre-sized mesh is not rejected wholesale.
+  const Box3 box = used_bounding_box(mesh);
+  const double diagonal_m = box.diagonal();
+  const double min_area_m2 = kDegenerateAreaFraction * diagonal_m * diagonal_m;
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+    const double area_m2 = triangle_area(mesh, mesh.triangles[t]);
+    if (!(area_m2 > min_area_m2)) {
+      message << "triangle " << t << " is degenerate: its area " << area_m2
+              << " m^2 is below 1e-12 of the squared bounding-box diagonal; remove it or move "
+                 "its vertices apart";
+      return message.str();
+    }
+  }
+
+  if (auto edge_problem = check_edges(mesh)) return edge_problem;
+
+  const double volume_m3 = signed_volume(mesh, box.centre());
+  const double min_volume_m3 = kFlatVolumeFraction * diagonal_m * diagonal_m * diagonal_m;
+  if (volume_m3 < -min_volume_m3) {
+    message << "the mesh is wound inward (signed volume " << volume_m3
+            << " m^3): reverse the vertex order of every triangle so they wind "
+               "counter-clockwise seen from outside";
+    return message.str();
+  }
+  if (!(volume_m3 > min_volume_m3)) {
+    message << "the mesh encloses no volume (signed volume " << volume_m3 << " m^3)";
+    return message.str();
+  }
+  return std::nullopt;
+}
+
+// Exact mass properties by the divergence theorem: the solid is the signed sum of tetrahedra
+// joining a fixed apex to each triangle (Eberly, "Polyhedral Mass Properties (Revisited)", 2002;
+// Tonon, "Explicit exact formulas for the 3-D tetrahedron inertia tensor in terms of its vertex
+// coordinates", J. Math. Stat. 1(1)). For a tetrahedron with vertices 0, a, b, c and signed
+// volume V = a·(b×c)/6:
+//   ∫ r dV = V (a + b + c)/4,    ∫ r rᵀ dV = V/20 (a aᵀ + b bᵀ + c cᵀ + s sᵀ),  s = a + b + c
+// (Tonon's formulas for the moments and products, written as one covariance matrix). Two passes
+// keep it accurate far from the origin: volume and centre of mass with the apex at the bounding-box
+// centre, then the second moment with the apex at the centre of mass, so no large parallel-axis
+// term is subtracted.
+MassProperties mass_properties(const TriangleMesh& mesh, double density_kg_m3) {
+  assert(std::isfinite(density_kg_m3) && density_kg_m3 > 0.0);
+  const Vec3 reference = used_bounding_box(mesh).centre();
+
+  double six_volume = 0.0;
+  Vec3 twenty_four_first_moment = Vec3::Zero();  // 24 ∫ (r − reference) dV
+  for (const auto& tri : mesh.triangles) {
+    const Vec3 a = mesh.vertices[tri[0]] - reference;
+    const Vec3 b = mesh.vertices[tri[1]] - reference;
+    const Vec3 c = mesh.vertices[tri[2]] - reference;
+    const double six_tet = a.dot(b.cross(c));
+    six_volume += six_tet;
+    twenty_four_first_moment += six_tet * (a + b + c);
+  }
+  assert(six_volume > 0.0);  // a closed, outward-wound mesh (see check_closed_mesh)
+
+  MassProperties props;
+  props.volume_m3 = six_volume / 6.0;
+  props.mass_kg = density_kg_m3 * props.volume_m3;
+  props.centre_of_mass = reference + twenty_four_first_moment / (4.0 * six_volume);
+
+  Mat3 hundred_twenty_second_moment = Mat3::Zero();  // 120 ∫ (r − com)(r − com)ᵀ dV
+  for (const auto& tri : mesh.triangles) {
+    const Vec3 a = mesh.vertices[tri[0]] - props.centre_of_mass;
+    const Vec3 b = mesh.vertices[tri[1]] - props.centre_of_mass;
+    const Vec3 c = mesh.vertices[tri[2]] - props.centre_of_mass;
+    const Vec3 s = a + b + c;
+    hundred_twenty_second_moment += a.dot(b.cross(c)) * (a * a.transpose() + b * b.transpose() +
+                                                         c * c.transpose() + s * s.transpose());
+  }
+  const Mat3 second_moment = hundred_twenty_second_moment / 120.0;
+  // I = ρ ∫ (r·r E − r rᵀ) dV = ρ (tr(C) E − C).
+  props.inertia_kg_m2 = density_kg_m3 * (second_moment.trace() * Mat3::Identity() - second_moment);
+  return props;
+}
+
+std::vector<Panel> make_panels(const TriangleMesh& mesh, double max_panel_area_m2) {
+  assert(max_panel_area_m2 > 0.0);  // also false for NaN
+  std::vector<Panel> panels;
+  if (mesh.triangles.empty()) return panels;
+
+  const Box3 box = used_bounding_box(mesh);
+  const Vec3 reference = box.centre();  // centroids are summed relative to it, for accuracy
+
+  std::vector<TriangleInfo> info(mesh.triangles.size());
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+    const Vec3 doubled = doubled_vector_area(mesh, mesh.triangles[t]);
+    const double doubled_norm = doubled.norm();
+    info[t].usable = doubled_norm > 0.0 && std::isfinite(doubled_norm);
+    if (!info[t].usable) continue;
+    info[t].unit_normal = doubled / doubled_norm;
+    info[t].area_m2 = 0.5 * doubled_norm;
+  }
+
+  const auto faces = coplanar_faces(mesh, info, kCoplanarOffsetFraction * box.diagonal());
+
+  for (const auto& face : faces) {
+    double area_m2 = 0.0;
+    double largest_triangle_m2 = 0.0;
+    Vec3 doubled_vector_area_sum = Vec3::Zero();
+    Vec3 area_moment = Vec3::Zero();  // Σ area (centroid − reference)
+    for (std::uint32_t t : face) {
+      const auto& tri = mesh.triangles[t];
+      const Vec3 centroid_from_reference =
+          ((mesh.vertices[tri[0]] - reference) + (mesh.vertices[tri[1]] - reference) +
+           (mesh.vertices[tri[2]] - reference)) /
+          3.0;
+      area_m2 += info[t].area_m2;
+      largest_triangle_m2 = std::max(largest_triangle_m2, info[t].area_m2);
+      doubled_vector_area_sum += 2.0 * info[t].area_m2 * info[t].unit_normal;
+      area_moment += info[t].area_m2 * centroid_from_reference;
+    }
+    const Vec3 normal = doubled_vector_area_sum.normalized();
+    const Vec3 centre = reference + area_moment / area_m2;
+    const double half_size_m = face_half_size(mesh, face, normal, centre);
+
+    if (area_m2 <= max_panel_area_m2) {
+      panels.push_back({centre, normal, area_m2, half_size_m});
+      continue;
+    }
+    // Smallest subdivision level that brings every sub-triangle down to the limit, within the cap.
+    int level = 0;
+    std::size_t pieces = 1;  // 4^level
+    while (std::ldexp(largest_triangle_m2, -2 * level) > max_panel_area_m2 &&
+           face.size() * pieces * 4 <= kMaxSubTrianglesPerFace) {
+      ++level;
+      pieces *= 4;
+    }
+    for (std::uint32_t t : face) {
+      const auto& tri = mesh.triangles[t];
+      append_subdivided(mesh.vertices[tri[0]], mesh.vertices[tri[1]], mesh.vertices[tri[2]],
+                        info[t].area_m2, level, normal, half_size_m, panels);
+    }
+  }
+  return panels;
+}
+
+double surface_area(const TriangleMesh& mesh) {
+  double area_m2 = 0.0;
+  for (const auto& tri : mesh.triangles)
+    area_m2 += triangle_area(mesh, tri);
+  return area_m2;
+}
+
+}  // namespace brisance::geometry

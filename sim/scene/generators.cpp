@@ -1,0 +1,127 @@
+#include "sim/scene/generators.hpp"
+
+#include <cassert>
+#include <limits>
+#include <string>
+#include <utility>
+
+namespace brisance::scene {
+
+namespace {
+
+std::uint64_t saturating_mul(std::uint64_t a, std::uint64_t b) {
+  if (a != 0 && b > std::numeric_limits<std::uint64_t>::max() / a)
+    return std::numeric_limits<std::uint64_t>::max();
+  return a * b;
+}
+
+std::uint64_t saturating_add(std::uint64_t a, std::uint64_t b) {
+  if (b > std::numeric_limits<std::uint64_t>::max() - a)
+    return std::numeric_limits<std::uint64_t>::max();
+  return a + b;
+}
+
+// A box-shaped object at `centre_local` in a frame placed at (origin, orientation) in the world.
+ObjectSpec make_box_object(std::string name, const Vec3& size_m, const Vec3& centre_local,
+                           const Vec3& origin, const Quat& orientation, double mass_kg,
+                           double friction) {
+  ObjectSpec object;
+  object.name = std::move(name);
+  object.shape = ShapeType::box;
+  object.box_size_m = size_m;
+  object.mesh = geometry::make_box(size_m);
+  object.position = origin + orientation * centre_local;
+  object.orientation = orientation;
+  object.mass_kg = mass_kg;
+  object.friction = friction;
+  return object;
+}
+
+}  // namespace
+
+std::uint64_t brick_wall_count(std::int64_t rows, std::int64_t columns) {
+  if (rows < 1 || columns < 1) return 0;
+  const auto r = static_cast<std::uint64_t>(rows);
+  const auto c = static_cast<std::uint64_t>(columns);
+  const std::uint64_t even_rows = (r + 1) / 2;  // rows 0, 2, ...: c full bricks
+  const std::uint64_t odd_rows = r / 2;         // rows 1, 3, ...: c - 1 full + 2 half bricks
+  return saturating_add(saturating_mul(even_rows, c), saturating_mul(odd_rows, c + 1));
+}
+
+std::vector<ObjectSpec> brick_wall(const BrickWallParams& params) {
+  assert(params.rows >= 1 && params.columns >= 1);
+  const double length = params.brick_size_m.x();
+  const double height = params.brick_size_m.y();
+  const double depth = params.brick_size_m.z();
+  const double gap = params.mortar_gap_m;
+  const auto columns = static_cast<double>(params.columns);
+  // An even row: columns bricks and columns - 1 joints.
+  const double width = columns * length + (columns - 1.0) * gap;
+  // An odd row has one piece and one joint more than an even row; equal widths need half bricks
+  // of (length - gap) / 2, which puts every odd-row joint over the middle of a brick below.
+  const double half_length = 0.5 * (length - gap);
+  const Vec3 full_size(length, height, depth);
+  const Vec3 half_size(half_length, height, depth);
+
+  std::vector<ObjectSpec> bricks;
+  bricks.reserve(brick_wall_count(params.rows, params.columns));
+  for (std::int64_t row = 0; row < params.rows; ++row) {
+    const double y = static_cast<double>(row) * (height + gap) + 0.5 * height;
+    const bool odd = row % 2 == 1;
+    const std::int64_t pieces = odd ? params.columns + 1 : params.columns;
+    double left = -0.5 * width;  // left end of the next piece, wall frame
+    for (std::int64_t index = 0; index < pieces; ++index) {
+      const bool half = odd && (index == 0 || index == pieces - 1);
+      const double piece_length = half ? half_length : length;
+      const Vec3 centre(left + 0.5 * piece_length, y, 0.0);
+      ObjectSpec brick = make_box_object(
+          params.name + "/r" + std::to_string(row) + "/b" + std::to_string(index),
+          half ? half_size : full_size, centre, params.position, params.orientation,
+          half ? 0.5 * params.brick_mass_kg : params.brick_mass_kg, params.friction);
+      brick.material = "brick";
+      bricks.push_back(std::move(brick));
+      left += piece_length + gap;
+    }
+  }
+  return bricks;
+}
+
+std::uint64_t blocks_count(const std::array<std::int64_t, 3>& counts) {
+  std::uint64_t total = 1;
+  for (std::int64_t n : counts) {
+    if (n < 1) return 0;
+    total = saturating_mul(total, static_cast<std::uint64_t>(n));
+  }
+  return total;
+}
+
+std::vector<ObjectSpec> blocks(const BlocksParams& params) {
+  assert(params.counts[0] >= 1 && params.counts[1] >= 1 && params.counts[2] >= 1);
+  // Centre of box 0 along each axis: x and z centred on the origin, y standing on it.
+  Vec3 first;
+  Vec3 pitch;
+  for (int axis = 0; axis < 3; ++axis) {
+    const auto n = static_cast<double>(params.counts[static_cast<std::size_t>(axis)]);
+    const double extent = n * params.size_m[axis] + (n - 1.0) * params.spacing_m[axis];
+    pitch[axis] = params.size_m[axis] + params.spacing_m[axis];
+    first[axis] = (axis == 1 ? 0.0 : -0.5 * extent) + 0.5 * params.size_m[axis];
+  }
+  std::vector<ObjectSpec> boxes;
+  boxes.reserve(blocks_count(params.counts));
+  for (std::int64_t j = 0; j < params.counts[1]; ++j) {
+    for (std::int64_t k = 0; k < params.counts[2]; ++k) {
+      for (std::int64_t i = 0; i < params.counts[0]; ++i) {
+        const Vec3 centre =
+            first + Vec3(static_cast<double>(i) * pitch.x(), static_cast<double>(j) * pitch.y(),
+                         static_cast<double>(k) * pitch.z());
+        boxes.push_back(make_box_object(params.name + "/x" + std::to_string(i) + "/y" +
+                                            std::to_string(j) + "/z" + std::to_string(k),
+                                        params.size_m, centre, params.position, params.orientation,
+                                        params.mass_kg, params.friction));
+      }
+    }
+  }
+  return boxes;
+}
+
+}  // namespace brisance::scene

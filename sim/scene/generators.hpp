@@ -1,0 +1,60 @@
+// sim/scene/generators (private to sim/scene): expand the scene's `generators[]` entries into
+// plain objects. The parameters arrive here already validated by scene.cpp; the generators only do
+// geometry. Every generated object is a box.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "sim/scene/scene.hpp"
+
+namespace brisance::scene {
+
+// A running-bond brick wall (thesis §3.6, fig. 3.4). In the wall's own frame the wall runs along
+// +x, rises along +y and is `brick_size_m.z()` deep along z; the frame's origin is the centre of
+// the wall's base, and `orientation` turns the wall about it. Even rows (0, 2, ...) hold `columns`
+// full bricks; odd rows are shifted by half a brick: a half brick at each end and columns - 1 full
+// bricks between, so every row spans the same width and each vertical joint of an odd row sits
+// over the middle of a brick below.
+struct BrickWallParams {
+  std::string name;              // prefix of the object names "<name>/r<row>/b<index>"
+  Vec3 position = Vec3::Zero();  // world position of the centre of the wall's base, m
+  Quat orientation = Quat::Identity();
+  std::int64_t rows = 1;                     // >= 1
+  std::int64_t columns = 1;                  // full bricks per even row, >= 1
+  Vec3 brick_size_m = Vec3(0.4, 0.15, 0.1);  // full brick [length, height, depth], m
+  double brick_mass_kg = 10.0;               // full brick; a half brick has half
+  double friction = 0.6;
+  double mortar_gap_m = 0.0;  // empty joint between neighbouring bricks, m
+};
+
+// Bricks (full and half) a wall of this many rows and columns has, saturating at UINT64_MAX, so
+// a caller can check limits before generating anything.
+std::uint64_t brick_wall_count(std::int64_t rows, std::int64_t columns);
+
+// The wall's bricks, row by row from the bottom, left (-x) to right within a row. Each brick is an
+// ObjectSpec with a box mesh, material "brick" and the given friction.
+std::vector<ObjectSpec> brick_wall(const BrickWallParams& params);
+
+// A regular grid of equal boxes. In the grid's own frame the boxes are centred on x and z and
+// stand on y = 0; the frame's origin is the centre of the grid's base.
+struct BlocksParams {
+  std::string name;              // prefix of the object names "<name>/x<i>/y<j>/z<k>"
+  Vec3 position = Vec3::Zero();  // world position of the centre of the grid's base, m
+  Quat orientation = Quat::Identity();
+  std::array<std::int64_t, 3> counts = {1, 1, 1};  // boxes along x, y, z, each >= 1
+  Vec3 size_m = Vec3::Ones();                      // full edge lengths of one box, m
+  Vec3 spacing_m = Vec3::Zero();  // gap between neighbouring boxes along each axis, m
+  double mass_kg = 1.0;           // of one box
+  double friction = 0.5;
+};
+
+// Boxes in the grid, saturating at UINT64_MAX.
+std::uint64_t blocks_count(const std::array<std::int64_t, 3>& counts);
+
+// The grid's boxes, x fastest, then z, then y (bottom layer first).
+std::vector<ObjectSpec> blocks(const BlocksParams& params);
+
+}  // namespace brisance::scene

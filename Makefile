@@ -10,7 +10,7 @@ DEB_PACKAGES := cmake g++ make ninja-build pkg-config \
   libeigen3-dev libboost1.81-dev nlohmann-json3-dev libsqlite3-dev \
   libgtest-dev libgmock-dev libbenchmark-dev
 
-.PHONY: all deps build run test sanitize bench format clean
+.PHONY: all deps gltf-validator build run test sanitize bench format clean
 
 all: build
 
@@ -27,6 +27,18 @@ deps:
 	  DEBIAN_FRONTEND=noninteractive $$sudo apt-get install -y -qq --no-install-recommends $$missing; \
 	fi
 
+# The Khronos glTF validator for `make test` (tests/io.cmake): node and npm (Debian's nodejs and
+# npm only when no node is installed: a NodeSource node ships its own npm, which Debian's npm
+# package conflicts with), then the validator pinned in tests/gltf/package-lock.json.
+gltf-validator:
+	@if ! command -v node >/dev/null 2>&1 || ! command -v npm >/dev/null 2>&1; then \
+	  echo "Installing Debian packages nodejs npm"; \
+	  sudo=""; [ "$$(id -u)" -eq 0 ] || sudo="sudo"; \
+	  $$sudo apt-get update -qq && \
+	  DEBIAN_FRONTEND=noninteractive $$sudo apt-get install -y -qq --no-install-recommends nodejs npm; \
+	fi
+	npm ci --prefix tests/gltf --no-audit --no-fund --loglevel=error
+
 $(BUILD_DIR)/release/CMakeCache.txt: | deps
 	cmake -S . -B $(BUILD_DIR)/release $(GENERATOR) -DCMAKE_BUILD_TYPE=Release
 
@@ -41,7 +53,7 @@ run: build
 
 # The whole test suite, built with AddressSanitizer + UndefinedBehaviorSanitizer and warnings as
 # errors, run through CTest.
-test: deps
+test: deps gltf-validator
 	cmake -S . -B $(BUILD_DIR)/sanitize $(GENERATOR) -DCMAKE_BUILD_TYPE=Sanitize -DBRISANCE_WERROR=ON
 	cmake --build $(BUILD_DIR)/sanitize -j $(JOBS)
 	cd $(BUILD_DIR)/sanitize && ctest --output-on-failure -j $(JOBS)

@@ -1,0 +1,217 @@
+#include "sim/io/result_json.hpp"
+
+#include <algorithm>
+#include <cassert>
+#include <cstddef>
+#include <ostream>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+namespace brisance::io {
+
+namespace {
+
+using nlohmann::json;
+
+json vec3_to_json(const std::array<double, 3>& v) {
+  return json::array({v[0], v[1], v[2]});
+}
+
+json quat_to_json(const std::array<double, 4>& q) {
+  return json::array({q[0], q[1], q[2], q[3]});
+}
+
+json mesh_to_json(const geometry::TriangleMesh& mesh) {
+  json vertices = json::array();
+  vertices.get_ref<json::array_t&>().reserve(mesh.vertices.size());
+  for (const geometry::Vec3& v : mesh.vertices)
+    vertices.push_back(json::array({v.x(), v.y(), v.z()}));
+  json triangles = json::array();
+  triangles.get_ref<json::array_t&>().reserve(mesh.triangles.size());
+  for (const auto& t : mesh.triangles)
+    triangles.push_back(json::array({t[0], t[1], t[2]}));
+  return json{{"vertices", std::move(vertices)}, {"triangles", std::move(triangles)}};
+}
+
+// One entry of "bodies"; `animated` says whether the body's index is in result.animated.
+json body_to_json(const engine::BodyInfo& body, bool animated) {
+  return json{{"name", body.name},
+              {"mass", body.mass_kg},
+              {"mesh", mesh_to_json(body.mesh)},
+              {"animated", animated},
+              {"position", vec3_to_json(body.initial_pose.position)},
+              {"orientation", quat_to_json(body.initial_pose.orientation)}};
+}
+
+// One entry of "frames": its time and the pose of every animated body, by body index.
+json frame_to_json(const engine::Result& result, std::size_t frame) {
+  json bodies = json::array();
+  bodies.get_ref<json::array_t&>().reserve(result.animated.size());
+  for (std::size_t k = 0; k < result.animated.size(); ++k) {
+    const engine::Pose& pose = result.pose(frame, k);
+    bodies.push_back(json{{"index", result.animated[k]},
+                          {"position", vec3_to_json(pose.position)},
+                          {"orientation", quat_to_json(pose.orientation)}});
+  }
+  return json{{"time", result.frame_times_s[frame]}, {"bodies", std::move(bodies)}};
+}
+
+json final_state_to_json(const engine::FinalState& state) {
+  return json{{"name", state.name},
+              {"position", vec3_to_json(state.pose.position)},
+              {"orientation", quat_to_json(state.pose.orientation)},
+              {"linear_velocity", vec3_to_json(state.linear_velocity_m_s)},
+              {"angular_velocity", vec3_to_json(state.angular_velocity_rad_s)}};
+}
+
+json warning_to_json(const engine::Warning& warning) {
+  return json{{"code", warning.code}, {"message", warning.message}, {"count", warning.count}};
+}
+
+// animated_flags[i] is true when body i is in result.animated: one pass, not a search per body.
+std::vector<bool> animated_flags(const engine::Result& result) {
+  std::vector<bool> flags(result.bodies.size(), false);
+  for (const std::uint32_t index : result.animated) {
+    assert(index < result.bodies.size());
+    flags[index] = true;
+  }
+  return flags;
+}
+
+// Writes `[f(0),f(1),...,f(count-1)]`, dumping one element at a time so only one element's
+// DOM exists at once.
+template <typename ElementToJson>
+void stream_array(std::ostream& out, std::size_t count, ElementToJson&& element_to_json) {
+  out << '[';
+  for (std::size_t i = 0; i < count; ++i) {
+    if (i != 0) out << ',';
+    out << element_to_json(i).dump();
+  }
+  out << ']';
+}
+
+// Writes frame_to_json(result, frame).dump() without building its DOM: the frames are nearly all
+// of a large result (10 000 bodies x 60 frames is 600 000 poses), and one small map-based object
+// per pose costs several allocations. The frame's numbers go into one flat array, dumped once so
+// each keeps nlohmann's exact formatting, and the fixed keys are written around them in the
+// order nlohmann dumps an object (sorted by key).
+void write_frame(std::ostream& out, const engine::Result& result, std::size_t frame, json& numbers,
+                 std::string& text) {
+  json::array_t& values = numbers.get_ref<json::array_t&>();
+  values.clear();
+  values.emplace_back(result.frame_times_s[frame]);
+  for (std::size_t k = 0; k < result.animated.size(); ++k) {
+    const engine::Pose& pose = result.pose(frame, k);
+    values.emplace_back(result.animated[k]);
+    for (const double component : pose.orientation)
+      values.emplace_back(component);
+    for (const double coordinate : pose.position)
+      values.emplace_back(coordinate);
+  }
+  text = numbers.dump();  // "[t,i,qx,qy,qz,qw,x,y,z,i,...]"; no number contains a comma
+  std::size_t at = 1;
+  const auto next = [&]() {
+    const std::size_t end = std::min(text.find(',', at), text.size() - 1);
+    const std::string_view token(text.data() + at, end - at);
+    at = end + 1;
+    return token;
+  };
+  const std::string_view time = next();
+  out << "{\"bodies\":[";
+  for (std::size_t k = 0; k < result.animated.size(); ++k) {
+    if (k != 0) out << ',';
+    out << "{\"index\":" << next() << ",\"orientation\":[" << next();
+    for (int c = 1; c < 4; ++c)
+      out << ',' << next();
+    out << "],\"position\":[" << next();
+    for (int c = 1; c < 3; ++c)
+      out << ',' << next();
+    out << "]}";
+  }
+  out << "],\"time\":" << time << '}';
+}
+
+}  // namespace
+
+json stats_to_json(const engine::Stats& stats) {
+  // Binding every member by name makes a field added to Stats a compile error here until it is
+  // written too, so "stats" always holds every field.
+  const auto& [steps, simulated_time_s, wall_time_s, ended_early, bodies, bodies_anchored,
+               bodies_never_released, bodies_slept, bodies_static_in_frames, panels, panels_loaded,
+               panels_back_facing, panels_not_reached, body_steps, occlusion_skipped] = stats;
+  return json{{"steps", steps},
+              {"simulated_time_s", simulated_time_s},
+              {"wall_time_s", wall_time_s},
+              {"ended_early", ended_early},
+              {"bodies", bodies},
+              {"bodies_anchored", bodies_anchored},
+              {"bodies_never_released", bodies_never_released},
+              {"bodies_slept", bodies_slept},
+              {"bodies_static_in_frames", bodies_static_in_frames},
+              {"panels", panels},
+              {"panels_loaded", panels_loaded},
+              {"panels_back_facing", panels_back_facing},
+              {"panels_not_reached", panels_not_reached},
+              {"body_steps", body_steps},
+              {"occlusion_skipped", occlusion_skipped}};
+}
+
+json result_to_json(const engine::Result& result) {
+  assert(result.poses.size() == result.frame_times_s.size() * result.animated.size());
+  const std::vector<bool> animated = animated_flags(result);
+
+  json bodies = json::array();
+  for (std::size_t i = 0; i < result.bodies.size(); ++i)
+    bodies.push_back(body_to_json(result.bodies[i], animated[i]));
+  json frames = json::array();
+  for (std::size_t f = 0; f < result.frame_times_s.size(); ++f)
+    frames.push_back(frame_to_json(result, f));
+  json final_state = json::array();
+  for (const engine::FinalState& state : result.final_state)
+    final_state.push_back(final_state_to_json(state));
+  json warnings = json::array();
+  for (const engine::Warning& warning : result.warnings)
+    warnings.push_back(warning_to_json(warning));
+
+  return json{{"bodies", std::move(bodies)},
+              {"frames", std::move(frames)},
+              {"final_state", std::move(final_state)},
+              {"stats", stats_to_json(result.stats)},
+              {"warnings", std::move(warnings)}};
+}
+
+// The same text as result_to_json(result).dump() and a newline, written element by element:
+// a result of 10 000 bodies x 60 frames never holds its whole DOM (hundreds of MB of small
+// allocations) in memory, and frames are written without one. The members are written in the
+// order nlohmann::json dumps an object, sorted by key; io_tests checks the two texts are
+// identical.
+void write_result_json(const engine::Result& result, std::ostream& out) {
+  assert(result.poses.size() == result.frame_times_s.size() * result.animated.size());
+  const std::vector<bool> animated = animated_flags(result);
+
+  out << "{\"bodies\":";
+  stream_array(out, result.bodies.size(),
+               [&](std::size_t i) { return body_to_json(result.bodies[i], animated[i]); });
+  out << ",\"final_state\":";
+  stream_array(out, result.final_state.size(),
+               [&](std::size_t i) { return final_state_to_json(result.final_state[i]); });
+  out << ",\"frames\":[";
+  json numbers = json::array();
+  numbers.get_ref<json::array_t&>().reserve(1 + 8 * result.animated.size());
+  std::string text;
+  for (std::size_t f = 0; f < result.frame_times_s.size(); ++f) {
+    if (f != 0) out << ',';
+    write_frame(out, result, f, numbers, text);
+  }
+  out << ']';
+  out << ",\"stats\":" << stats_to_json(result.stats).dump();
+  out << ",\"warnings\":";
+  stream_array(out, result.warnings.size(),
+               [&](std::size_t i) { return warning_to_json(result.warnings[i]); });
+  out << "}\n";
+}
+
+}  // namespace brisance::io

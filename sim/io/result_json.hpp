@@ -1,0 +1,26 @@
+// sim/io/result_json: the result as JSON (the names of the issue and DESIGN.md).
+//
+// {
+//   "bodies": [{"name", "mass", "mesh": {"vertices": [[x,y,z],...], "triangles": [[a,b,c],...]},
+//               "animated": bool, "position": [x,y,z], "orientation": [x,y,z,w]}],
+//   "frames": [{"time": t, "bodies": [{"index": i, "position": [..], "orientation": [..]}]}],
+//   "final_state": [{"name", "position", "orientation", "linear_velocity", "angular_velocity"}],
+//   "stats": {...every Stats field...},
+//   "warnings": [{"code", "message", "count"}]
+// }
+// Static bodies appear once (their position/orientation in "bodies"); frames list only the
+// animated ones by body index.
+#pragma once
+
+#include <iosfwd>
+#include <nlohmann/json_fwd.hpp>
+
+#include "sim/engine/result.hpp"
+
+namespace brisance::io {
+
+nlohmann::json result_to_json(const engine::Result& result);
+nlohmann::json stats_to_json(const engine::Stats& stats);
+void write_result_json(const engine::Result& result, std::ostream& out);
+
+}  // namespace brisance::io

@@ -1,0 +1,265 @@
+// Tests of sim/io/result_json: the documented structure, every Stats field, and the streamed
+// writer producing exactly the text of the DOM.
+#include "sim/io/result_json.hpp"
+
+#include <cmath>
+#include <cstdint>
+#include <set>
+#include <sstream>
+#include <string>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+namespace brisance::io {
+namespace {
+
+using nlohmann::json;
+
+// A box of half extents (hx, hy, hz), outward winding; written here so these tests do not
+// depend on sim/geometry.
+geometry::TriangleMesh box(double hx, double hy, double hz) {
+  geometry::TriangleMesh mesh;
+  for (int i = 0; i < 8; ++i)
+    mesh.vertices.emplace_back(i & 1 ? hx : -hx, i & 2 ? hy : -hy, i & 4 ? hz : -hz);
+  mesh.triangles = {{0, 2, 1}, {1, 2, 3}, {4, 5, 6}, {5, 7, 6}, {0, 1, 4}, {1, 5, 4},
+                    {2, 6, 3}, {3, 6, 7}, {0, 4, 2}, {2, 4, 6}, {1, 3, 5}, {3, 7, 5}};
+  return mesh;
+}
+
+engine::Pose pose_at(std::size_t frame, std::size_t k) {
+  const double angle = 0.3 * static_cast<double>(frame) * static_cast<double>(k + 1);
+  engine::Pose pose;
+  pose.position = {1.0 * static_cast<double>(frame) + static_cast<double>(k), 2.0,
+                   -0.5 * static_cast<double>(frame)};
+  pose.orientation = {0.0, std::sin(angle / 2), 0.0, std::cos(angle / 2)};
+  return pose;
+}
+
+// Two static bodies (0, 2) and two animated ones listed out of body order (3, 1), 3 frames.
+engine::Result synthetic_result() {
+  engine::Result result;
+  const char* names[] = {"ground", "door", "wall", "window"};
+  for (std::size_t i = 0; i < 4; ++i) {
+    engine::BodyInfo body;
+    body.name = names[i];
+    body.mass_kg = 10.0 * static_cast<double>(i + 1) + 0.25;
+    body.mesh = box(0.5 + 0.1 * static_cast<double>(i), 1.0, 0.05);
+    body.initial_pose.position = {static_cast<double>(i), 0.0, -1.5};
+    body.initial_pose.orientation = {0.0, 0.0, std::sin(0.1), std::cos(0.1)};
+    result.bodies.push_back(body);
+  }
+  result.animated = {3, 1};
+  result.frame_times_s = {0.0, 1.0 / 60.0, 2.0 / 60.0};
+  for (std::size_t f = 0; f < 3; ++f)
+    for (std::size_t k = 0; k < 2; ++k)
+      result.poses.push_back(pose_at(f, k));
+  for (std::size_t i = 0; i < 4; ++i) {
+    engine::FinalState state;
+    state.name = result.bodies[i].name;
+    state.pose = pose_at(2, i);
+    state.linear_velocity_m_s = {0.5 * static_cast<double>(i), -1.0, 2.0};
+    state.angular_velocity_rad_s = {0.0, 3.0, -0.125 * static_cast<double>(i)};
+    result.final_state.push_back(state);
+  }
+  // Every field off its default so a field written from the wrong member shows.
+  result.stats = {.steps = 1200,
+                  .simulated_time_s = 0.04,
+                  .wall_time_s = 0.7,
+                  .ended_early = true,
+                  .bodies = 4,
+                  .bodies_anchored = 1,
+                  .bodies_never_released = 2,
+                  .bodies_slept = 3,
+                  .bodies_static_in_frames = 5,
+                  .panels = 48,
+                  .panels_loaded = 30,
+                  .panels_back_facing = 12,
+                  .panels_not_reached = 6,
+                  .body_steps = 2400,
+                  .occlusion_skipped = false};
+  result.warnings.push_back({"blast_out_of_range", "scaled distance above the fit", 7});
+  return result;
+}
+
+void expect_vec3(const json& j, const std::array<double, 3>& v) {
+  ASSERT_TRUE(j.is_array());
+  ASSERT_EQ(j.size(), 3u);
+  for (std::size_t i = 0; i < 3; ++i)
+    EXPECT_EQ(j[i].get<double>(), v[i]) << i;
+}
+
+void expect_quat(const json& j, const std::array<double, 4>& q) {
+  ASSERT_TRUE(j.is_array());
+  ASSERT_EQ(j.size(), 4u);
+  for (std::size_t i = 0; i < 4; ++i)
+    EXPECT_EQ(j[i].get<double>(), q[i]) << i;
+}
+
+// Parsed back from the streamed text, so the test covers what a client reads.
+json round_trip(const engine::Result& result) {
+  std::ostringstream out;
+  write_result_json(result, out);
+  return json::parse(out.str());
+}
+
+TEST(ResultJson, HasExactlyTheDocumentedTopLevelMembers) {
+  const json j = round_trip(synthetic_result());
+  std::set<std::string> keys;
+  for (const auto& [key, value] : j.items())
+    keys.insert(key);
+  EXPECT_EQ(keys, (std::set<std::string>{"bodies", "frames", "final_state", "stats", "warnings"}));
+}
+
+TEST(ResultJson, BodiesCarryNameMassMeshPoseAndAnimatedFlag) {
+  const engine::Result result = synthetic_result();
+  const json j = round_trip(result);
+  ASSERT_EQ(j["bodies"].size(), 4u);
+  const bool expected_animated[] = {false, true, false, true};
+  for (std::size_t i = 0; i < 4; ++i) {
+    SCOPED_TRACE(i);
+    const json& body = j["bodies"][i];
+    const engine::BodyInfo& info = result.bodies[i];
+    EXPECT_EQ(body["name"], info.name);
+    EXPECT_EQ(body["mass"].get<double>(), info.mass_kg);
+    EXPECT_EQ(body["animated"], expected_animated[i]);
+    expect_vec3(body["position"], info.initial_pose.position);
+    expect_quat(body["orientation"], info.initial_pose.orientation);
+    ASSERT_EQ(body["mesh"]["vertices"].size(), info.mesh.vertices.size());
+    for (std::size_t v = 0; v < info.mesh.vertices.size(); ++v) {
+      const geometry::Vec3& vertex = info.mesh.vertices[v];
+      expect_vec3(body["mesh"]["vertices"][v], {vertex.x(), vertex.y(), vertex.z()});
+    }
+    ASSERT_EQ(body["mesh"]["triangles"].size(), info.mesh.triangles.size());
+    for (std::size_t t = 0; t < info.mesh.triangles.size(); ++t)
+      EXPECT_EQ(body["mesh"]["triangles"][t].get<std::vector<std::uint32_t>>(),
+                (std::vector<std::uint32_t>(info.mesh.triangles[t].begin(),
+                                            info.mesh.triangles[t].end())));
+  }
+}
+
+TEST(ResultJson, FramesListOnlyTheAnimatedBodiesByIndex) {
+  const engine::Result result = synthetic_result();
+  const json j = round_trip(result);
+  ASSERT_EQ(j["frames"].size(), 3u);
+  for (std::size_t f = 0; f < 3; ++f) {
+    SCOPED_TRACE(f);
+    const json& frame = j["frames"][f];
+    EXPECT_EQ(frame["time"].get<double>(), result.frame_times_s[f]);
+    ASSERT_EQ(frame["bodies"].size(), 2u);
+    for (std::size_t k = 0; k < 2; ++k) {
+      const json& entry = frame["bodies"][k];
+      EXPECT_EQ(entry.size(), 3u) << entry.dump();
+      EXPECT_EQ(entry["index"].get<std::uint32_t>(), result.animated[k]);
+      expect_vec3(entry["position"], pose_at(f, k).position);
+      expect_quat(entry["orientation"], pose_at(f, k).orientation);
+    }
+  }
+}
+
+TEST(ResultJson, FinalStateAndWarnings) {
+  const engine::Result result = synthetic_result();
+  const json j = round_trip(result);
+  ASSERT_EQ(j["final_state"].size(), 4u);
+  for (std::size_t i = 0; i < 4; ++i) {
+    SCOPED_TRACE(i);
+    const json& state = j["final_state"][i];
+    const engine::FinalState& expected = result.final_state[i];
+    EXPECT_EQ(state.size(), 5u);
+    EXPECT_EQ(state["name"], expected.name);
+    expect_vec3(state["position"], expected.pose.position);
+    expect_quat(state["orientation"], expected.pose.orientation);
+    expect_vec3(state["linear_velocity"], expected.linear_velocity_m_s);
+    expect_vec3(state["angular_velocity"], expected.angular_velocity_rad_s);
+  }
+  ASSERT_EQ(j["warnings"].size(), 1u);
+  EXPECT_EQ(j["warnings"][0], (json{{"code", "blast_out_of_range"},
+                                    {"message", "scaled distance above the fit"},
+                                    {"count", 7}}));
+}
+
+TEST(ResultJson, StatsHoldEveryFieldUnderItsMemberName) {
+  const engine::Result result = synthetic_result();
+  const json stats = round_trip(result)["stats"];
+  const json expected = {{"steps", 1200},
+                         {"simulated_time_s", 0.04},
+                         {"wall_time_s", 0.7},
+                         {"ended_early", true},
+                         {"bodies", 4},
+                         {"bodies_anchored", 1},
+                         {"bodies_never_released", 2},
+                         {"bodies_slept", 3},
+                         {"bodies_static_in_frames", 5},
+                         {"panels", 48},
+                         {"panels_loaded", 30},
+                         {"panels_back_facing", 12},
+                         {"panels_not_reached", 6},
+                         {"body_steps", 2400},
+                         {"occlusion_skipped", false}};
+  EXPECT_EQ(stats, expected) << stats.dump();
+  EXPECT_EQ(stats_to_json(result.stats), expected);
+}
+
+TEST(ResultJson, StreamedTextIsTheCompactDumpAndANewline) {
+  // Frames are streamed without a DOM, so the numbers nlohmann formats specially must match too:
+  // NaN (null), negative zero, integral values, extremes.
+  engine::Result odd_numbers = synthetic_result();
+  odd_numbers.poses[0].position = {std::nan(""), -0.0, 3.0};
+  odd_numbers.poses[1].position = {1e-300, -1.7976931348623157e308, 0.1 + 0.2};
+  odd_numbers.poses[2].orientation = {5e-324, 1e21, -1e-7, 123456789.0};
+  // Frames but no animated body: every frame lists no bodies.
+  engine::Result still = synthetic_result();
+  still.animated.clear();
+  still.poses.clear();
+  for (const engine::Result& result : {synthetic_result(), odd_numbers, still, engine::Result{}}) {
+    std::ostringstream out;
+    write_result_json(result, out);
+    EXPECT_EQ(out.str(), result_to_json(result).dump() + "\n");
+  }
+}
+
+TEST(ResultJson, EmptyResultHasEmptyArrays) {
+  const json j = round_trip(engine::Result{});
+  EXPECT_EQ(j["bodies"], json::array());
+  EXPECT_EQ(j["frames"], json::array());
+  EXPECT_EQ(j["final_state"], json::array());
+  EXPECT_EQ(j["warnings"], json::array());
+  EXPECT_EQ(j["stats"]["steps"], 0);
+}
+
+// 10 000 animated bodies x 60 frames (the size DESIGN.md targets): the streamed writer handles it
+// in one pass; its text is checked piecewise rather than parsed whole to keep the test fast.
+TEST(ResultJson, TenThousandBodiesBySixtyFramesStream) {
+  constexpr std::size_t kBodies = 10000;
+  constexpr std::size_t kFrames = 60;
+  engine::Result result;
+  result.bodies.resize(kBodies);
+  for (std::size_t i = 0; i < kBodies; ++i) {
+    result.bodies[i].name = "b" + std::to_string(i);
+    result.animated.push_back(static_cast<std::uint32_t>(i));
+  }
+  for (std::size_t f = 0; f < kFrames; ++f)
+    result.frame_times_s.push_back(static_cast<double>(f) / 60.0);
+  result.poses.resize(kBodies * kFrames);
+  for (std::size_t p = 0; p < result.poses.size(); ++p)
+    result.poses[p].position = {static_cast<double>(p), 0.0, 0.0};
+
+  std::ostringstream out;
+  write_result_json(result, out);
+  const std::string text = out.str();
+  ASSERT_FALSE(text.empty());
+  EXPECT_EQ(text.back(), '\n');
+  // Every pose appears once, and the last one is the last frame's last body.
+  std::size_t entries = 0;
+  for (std::size_t at = text.find("\"index\":"); at != std::string::npos;
+       at = text.find("\"index\":", at + 1))
+    ++entries;
+  EXPECT_EQ(entries, kBodies * kFrames);
+  const std::string last_pose = "{\"index\":9999,\"orientation\":[0.0,0.0,0.0,1.0],\"position\":[" +
+                                json(static_cast<double>(kBodies * kFrames - 1)).dump() +
+                                ",0.0,0.0]}],\"time\":";
+  EXPECT_NE(text.find(last_pose), std::string::npos);
+}
+
+}  // namespace
+}  // namespace brisance::io

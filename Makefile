@@ -61,6 +61,7 @@ test: deps gltf-validator
 # Benchmarks need an optimised build.
 bench: build
 	$(BUILD_DIR)/release/bench/blast_bench
+	$(BUILD_DIR)/release/bench/step_bench
 
 format:
 	git ls-files '*.cpp' '*.hpp' | xargs clang-format -i

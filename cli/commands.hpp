@@ -51,5 +51,7 @@ class ParsedFlags {
 };
 
 int run_blast(const Args& args, std::ostream& out);
+int run_simulation(const Args& args, std::ostream& out);
+int run_validate(const Args& args, std::ostream& out);
 
 }  // namespace brisance::cli

@@ -13,6 +13,8 @@ constexpr std::string_view kUsage =
     "usage: brisance <command> [options]\n"
     "\n"
     "commands:\n"
+    "  run       simulate a scene: brisance run SCENE.json -o OUT.glb|OUT.json\n"
+    "  validate  check a scene file and list every problem\n"
     "  blast     blast-wave parameters of a charge at a distance (Kingery-Bulmash)\n"
     "  version   print the version\n"
     "  help      print this help\n"
@@ -31,6 +33,8 @@ int main(int argc, char** argv) {
   const brisance::cli::Args args(all.begin() + 2, all.end());
   try {
     if (command == "blast") return brisance::cli::run_blast(args, std::cout);
+    if (command == "run") return brisance::cli::run_simulation(args, std::cout);
+    if (command == "validate") return brisance::cli::run_validate(args, std::cout);
     if (command == "version" || command == "--version") {
       std::cout << "brisance " << BRISANCE_VERSION << "\n";
       return brisance::cli::kExitOk;

@@ -1,0 +1,94 @@
+// sim/dynamics: rigid bodies — their read-only model, their state, and one integration step
+// under gravity, flight drag, damping and the blast's load impulses; ground contact with Coulomb
+// friction and restitution (thesis ch. 3, DESIGN.md decision 7). Knows nothing of blasts or
+// scenes: the engine hands it impulses.
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <vector>
+
+namespace brisance::dynamics {
+
+using Vec3 = Eigen::Vector3d;
+using Mat3 = Eigen::Matrix3d;
+using Quat = Eigen::Quaterniond;
+
+// Which scheme advances a body over a step (the default is chosen by the run-time-versus-error
+// study in bench/).
+enum class Integrator {
+  explicit_euler,       // thesis §3.5: x += v dt, then v += a dt; omega form of Euler's equation
+  semi_implicit_euler,  // v first, then x with the new v; angular momentum form
+  rk4,                  // loads by their exact first moment, RK4 for drag and rotation
+};
+
+// A direction-dependent frontal area for drag: A(d) = 1/2 sum |n_i . d| A_i over the faces of
+// a convex body; for a body with many faces the mean projection (surface area / 4, Cauchy).
+struct DragShape {
+  std::vector<Vec3> face_normals;  // body frame, unit; opposite faces merged
+  std::vector<double> face_areas;  // m^2, already halved for the merge
+  double mean_area_m2 = 0.0;       // used when face_normals is empty
+  double projected_area_m2(const Vec3& direction_body) const;
+};
+
+struct BodyModel {
+  double mass_kg = 1.0;
+  double inverse_mass = 1.0;
+  Mat3 inertia_body = Mat3::Identity();          // about the centre of mass, body axes
+  Mat3 inverse_inertia_body = Mat3::Identity();
+  // Set when the body axes are principal axes (boxes, most symmetric shapes): the hot path then
+  // multiplies by a diagonal. Use set_inertia() to keep these consistent.
+  bool diagonal_inertia = true;
+  Vec3 inverse_inertia_diagonal = Vec3::Ones();
+  bool rotates = true;
+  double drag_coefficient = 1.0;
+  DragShape drag_shape;
+  double bounding_radius_m = 0.0;                // from the centre of mass
+  std::vector<Vec3> hull_points;                 // body frame, relative to the centre of mass
+};
+
+struct BodyState {
+  Vec3 position = Vec3::Zero();          // centre of mass, world, m
+  Vec3 velocity = Vec3::Zero();          // world, m/s
+  Quat orientation = Quat::Identity();   // body to world
+  Vec3 angular_momentum = Vec3::Zero();  // world, about the centre of mass, kg m^2/s
+};
+
+// What the blast does to a body over one step [t0, t0 + dt], all world frame.
+struct StepLoads {
+  Vec3 impulse = Vec3::Zero();             // integral of F dt, N s
+  Vec3 angular_impulse = Vec3::Zero();     // integral of r x F dt, N m s
+  Vec3 impulse_moment = Vec3::Zero();      // integral of (t0 + dt - t) F dt, N s^2 (rk4 only)
+};
+
+struct WorldSettings {
+  Vec3 gravity_m_s2 = Vec3(0.0, -9.81, 0.0);
+  double air_density_kg_m3 = 1.225;
+  double linear_damping_per_s = 0.0;
+  double angular_damping_per_s = 0.0;
+  Integrator integrator = Integrator::semi_implicit_euler;
+};
+
+// Sets inertia_body, its inverse and the diagonal fast path from a body-frame inertia tensor.
+void set_inertia(BodyModel& model, const Mat3& inertia_kg_m2);
+
+Vec3 angular_velocity(const BodyModel& model, const BodyState& state);
+double kinetic_energy(const BodyModel& model, const BodyState& state);
+
+// Advances one free body by dt; returns the angular velocity it turned with (world frame), an
+// estimate of the current one that costs nothing extra.
+Vec3 integrate(const BodyModel& model, BodyState& state, const StepLoads& loads,
+               const WorldSettings& world, double dt);
+
+struct Ground {
+  double height_m = 0.0;
+  double friction = 0.5;
+  double restitution = 0.2;
+};
+
+// Resolves contact of a body with the plane y = ground.height_m after a step: pushes it out of
+// the ground and applies normal and friction impulses at the penetrating hull points
+// (sequential impulses with accumulated clamping). Returns true if the body touches the ground.
+bool resolve_ground_contact(const BodyModel& model, BodyState& state, const Ground& ground);
+
+}  // namespace brisance::dynamics

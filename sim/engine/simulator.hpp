@@ -1,0 +1,27 @@
+// sim/engine/simulator: runs a validated scene — prepare (bodies, panels, the arrival-ordered
+// panel events), then impulse-exact stepping (DESIGN.md decision 6) with frames sampled at exact
+// multiples of 1 / frame_rate, skipping whatever the scene does not need (decision 10).
+#pragma once
+
+#include <functional>
+
+#include "sim/engine/result.hpp"
+#include "sim/scene/scene.hpp"
+
+namespace brisance::engine {
+
+struct RunHooks {
+  // Called with the fraction of simulated time done (0..1), at most about 200 times a run.
+  std::function<void(double fraction)> progress;
+  // Polled once per step; returning true stops the run within that step.
+  std::function<bool()> cancel_requested;
+};
+
+struct RunOutcome {
+  Result result;  // complete unless cancelled
+  bool cancelled = false;
+};
+
+RunOutcome simulate(const scene::Scene& scene, const RunHooks& hooks = {});
+
+}  // namespace brisance::engine

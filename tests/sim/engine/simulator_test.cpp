@@ -1,0 +1,231 @@
+// Tests of sim/engine/simulator: the analytic plate, frames, skipping, determinism, hooks.
+#include "sim/engine/simulator.hpp"
+
+#include <cmath>
+#include <cstring>
+
+#include <gtest/gtest.h>
+
+#include "sim/blast/blast_point.hpp"
+#include "tests/sim/engine/scene_builder.hpp"
+
+namespace brisance::engine {
+namespace {
+
+using Eigen::Vector3d;
+using testing::box_object;
+using testing::tnt;
+
+// A free square plate facing a charge head-on, far enough that every panel sees nearly the
+// same Z and angle. Clearing off: the panel's net impulse per area is i_r - i_s exactly.
+scene::Scene plate_scene(double distance_m) {
+  scene::Scene s = testing::vacuum_scene();
+  s.charges.push_back(tnt(10.0, Vector3d(0.0, 0.0, -distance_m)));
+  scene::ObjectSpec plate = box_object("plate", Vector3d(0.2, 0.2, 0.01), Vector3d::Zero(), 4.0);
+  plate.friction = 0.0;
+  s.objects.push_back(plate);
+  s.simulation.duration_s = 0.1;
+  s.simulation.frame_rate_hz = 100.0;
+  s.simulation.clearing = false;
+  return s;
+}
+
+TEST(Simulator, FreePlateEndsWithAreaTimesNetImpulseOverMassWhateverTheStep) {
+  // Thesis eq. 2.41 with fig. 2.16's net pressure: v = A (i_r - i_s) / M (DESIGN.md §5-6).
+  const double distance = 8.0;
+  const blast::BlastPoint point = blast::blast_point(blast::Charge{10.0}, distance - 0.005);
+  const double expected =
+      0.2 * 0.2 * (point.reflected_impulse_pa_s - point.incident_impulse_pa_s) / 4.0;
+  for (double step : {1e-5, 1e-4, 1e-3, 1e-2, 0.0}) {
+    for (auto integrator : {scene::Integrator::explicit_euler,
+                            scene::Integrator::semi_implicit_euler, scene::Integrator::rk4}) {
+      scene::Scene s = plate_scene(distance);
+      if (step > 0.0) s.simulation.time_step_s = step;  // 0: the adaptive step
+      s.simulation.integrator = integrator;
+      const RunOutcome run = simulate(s);
+      const auto& v = run.result.final_state.at(0).linear_velocity_m_s;
+      EXPECT_NEAR(v[2], expected, 0.005 * expected) << "step " << step;
+      EXPECT_NEAR(v[0], 0.0, 1e-9);
+      EXPECT_NEAR(v[1], 0.0, 1e-9);
+    }
+  }
+}
+
+TEST(Simulator, FramesAreExactMultiplesOfTheFramePeriod) {
+  scene::Scene s = plate_scene(8.0);
+  s.simulation.duration_s = 0.25;
+  s.simulation.frame_rate_hz = 30.0;
+  const Result r = simulate(s).result;
+  ASSERT_EQ(r.frame_times_s.size(), 8u);  // 0, 1/30, ..., 7/30 <= 0.25
+  for (std::size_t k = 0; k < r.frame_times_s.size(); ++k)
+    EXPECT_EQ(r.frame_times_s[k], static_cast<double>(k) / 30.0);
+  EXPECT_EQ(r.poses.size(), r.frame_times_s.size() * r.animated.size());
+}
+
+TEST(Simulator, FramePosesFollowTheMotion) {
+  // Constant velocity after the pulse: positions advance linearly between late frames.
+  const Result r = simulate(plate_scene(8.0)).result;
+  ASSERT_EQ(r.animated.size(), 1u);
+  const std::size_t n = r.frame_times_s.size();
+  const double v = r.final_state[0].linear_velocity_m_s[2];
+  const double dz = r.pose(n - 1, 0).position[2] - r.pose(n - 2, 0).position[2];
+  EXPECT_NEAR(dz, v * (r.frame_times_s[n - 1] - r.frame_times_s[n - 2]), 1e-9);
+  EXPECT_EQ(r.pose(0, 0).position[2], 0.0);
+}
+
+TEST(Simulator, SkipsBackFacingPanelsAnchoredAndHeldBodies) {
+  scene::Scene s;
+  s.charges.push_back(tnt(1.0, Vector3d(0.0, 0.5, -20.0)));
+  // Heavy, far: its load never beats mu m g, so it is never integrated.
+  s.objects.push_back(
+      box_object("block", Vector3d(1.0, 1.0, 1.0), Vector3d(0.0, 0.5, 0.0), 2000.0));
+  scene::ObjectSpec post =
+      box_object("post", Vector3d(0.2, 2.0, 0.2), Vector3d(3.0, 1.0, 0.0), 50.0);
+  post.anchored = true;
+  s.objects.push_back(post);
+  s.simulation.duration_s = 0.5;
+  s.simulation.max_panel_area_m2 = 10.0;  // one panel per face
+  const Result r = simulate(s).result;
+  EXPECT_EQ(r.stats.bodies, 2u);
+  EXPECT_EQ(r.stats.bodies_anchored, 1u);
+  EXPECT_EQ(r.stats.bodies_never_released, 1u);
+  EXPECT_TRUE(r.animated.empty());
+  EXPECT_EQ(r.stats.bodies_static_in_frames, 2u);
+  EXPECT_EQ(r.stats.panels, 12u);
+  // The block: the charge is in front (-z) and below its top: front, bottom? The bottom face
+  // (normal -y) sees the charge at y = 0.5 edge-on; only the front face faces it.
+  EXPECT_EQ(r.stats.panels_loaded, 1u);
+  EXPECT_EQ(r.stats.panels_back_facing, 5u);
+  EXPECT_EQ(r.stats.body_steps, 0u);
+  EXPECT_TRUE(r.stats.ended_early);
+}
+
+TEST(Simulator, StackedBodiesAreHeldByTheWeightAboveThem) {
+  // Thesis §3.6: lower bricks have more resistance. A column of three 10 kg blocks: the top one
+  // is held by mu m g, the middle by mu 2 m g, the bottom by mu 3 m g. With mu set so that the
+  // blast's peak push lies between 2 and 3 m g mu, the two upper blocks go and the bottom stays.
+  const double distance = 12.0;
+  const blast::BlastPoint p = blast::blast_point(blast::Charge{30.0}, distance);
+  const double area = 0.3 * 0.3;
+  const double peak_force = area * (p.reflected_overpressure_pa - p.incident_overpressure_pa);
+  const double mu = peak_force / (2.5 * 10.0 * 9.81);
+  scene::Scene s;
+  s.charges.push_back(tnt(30.0, Vector3d(0.0, 0.45, -distance)));
+  for (int i = 0; i < 3; ++i) {
+    scene::ObjectSpec block = box_object("block" + std::to_string(i), Vector3d(0.3, 0.3, 0.3),
+                                         Vector3d(0.0, 0.15 + 0.3 * i, 0.0), 10.0);
+    block.friction = mu;
+    s.objects.push_back(block);
+  }
+  // Just after the pulse (arrival about 25 ms, duration about 8 ms), before anything lands.
+  s.simulation.duration_s = 0.06;
+  s.simulation.clearing = false;
+  s.simulation.max_panel_area_m2 = 1.0;
+  const Result r = simulate(s).result;
+  EXPECT_EQ(r.stats.bodies_never_released, 1u);
+  ASSERT_EQ(r.animated.size(), 2u);
+  EXPECT_EQ(r.animated[0], 1u);
+  EXPECT_EQ(r.animated[1], 2u);
+  // Friction takes mu N of the push while it lasts: the middle block, held twice as hard,
+  // leaves slower than the top one.
+  EXPECT_GT(r.final_state[2].linear_velocity_m_s[2], r.final_state[1].linear_velocity_m_s[2]);
+  EXPECT_GT(r.final_state[1].linear_velocity_m_s[2], 0.0);
+}
+
+TEST(Simulator, ClearingRunsFromTheEdgesOfTheWholeSurface) {
+  // Five 5 cm x 40 cm plates side by side form one 25 x 40 cm front surface (S = 12.5 cm),
+  // which clears far slower than a lone plate whose own edges are 2.5 cm away (S = 2.5 cm). The
+  // row keeps more of the reflected pulse, so its middle plate leaves faster than the lone one.
+  auto run = [](int count) {
+    scene::Scene s = testing::vacuum_scene();
+    s.charges.push_back(tnt(10.0, Vector3d(0.0, 0.0, -8.0)));
+    for (int i = 0; i < count; ++i) {
+      scene::ObjectSpec plate = box_object("p" + std::to_string(i), Vector3d(0.05, 0.4, 0.01),
+                                           Vector3d(0.05 * (i - count / 2), 0.0, 0.0), 0.5);
+      plate.friction = 0.0;
+      s.objects.push_back(plate);
+    }
+    s.simulation.duration_s = 0.05;
+    const Result r = simulate(s).result;
+    return r.final_state[static_cast<std::size_t>(count / 2)].linear_velocity_m_s[2];
+  };
+  const double alone = run(1);
+  const double in_row = run(5);
+  EXPECT_GT(alone, 0.0);
+  EXPECT_GT(in_row, 1.2 * alone);
+}
+
+TEST(Simulator, BlownBrickFliesFallsAndSleeps) {
+  scene::Scene s;
+  s.charges.push_back(tnt(20.0, Vector3d(0.0, 0.3, -4.0)));
+  s.objects.push_back(box_object("brick", Vector3d(0.4, 0.2, 0.2), Vector3d(0.0, 0.1, 0.0), 10.0));
+  s.simulation.duration_s = 10.0;
+  const Result r = simulate(s).result;
+  ASSERT_EQ(r.animated.size(), 1u);
+  const FinalState& f = r.final_state[0];
+  EXPECT_GT(f.pose.position[2], 0.3);          // pushed away from the charge, then slid
+  EXPECT_NEAR(f.pose.position[1], 0.1, 0.11);  // lying on the ground (some face down)
+  EXPECT_EQ(r.stats.bodies_slept, 1u);
+  EXPECT_TRUE(r.stats.ended_early);
+  EXPECT_EQ(r.frame_times_s.size(), 301u);  // frames still cover the whole duration
+  for (double value : f.linear_velocity_m_s)
+    EXPECT_EQ(value, 0.0);
+}
+
+TEST(Simulator, DeterministicBitForBit) {
+  scene::Scene s;
+  s.charges.push_back(tnt(50.0, Vector3d(0.2, 0.6, -6.0)));
+  for (int i = 0; i < 12; ++i)
+    s.objects.push_back(box_object("b" + std::to_string(i), Vector3d(0.3, 0.15, 0.15),
+                                   Vector3d(0.35 * (i % 4) - 0.5, 0.075 + 0.15 * (i / 4), 0.0),
+                                   8.0));
+  s.simulation.duration_s = 1.0;
+  const Result a = simulate(s).result;
+  const Result b = simulate(s).result;
+  ASSERT_EQ(a.poses.size(), b.poses.size());
+  ASSERT_GT(a.animated.size(), 0u);
+  EXPECT_EQ(std::memcmp(a.poses.data(), b.poses.data(), a.poses.size() * sizeof(Pose)), 0);
+  EXPECT_EQ(a.stats.steps, b.stats.steps);
+}
+
+TEST(Simulator, ProgressRisesToOneAndCancelStops) {
+  scene::Scene s = plate_scene(8.0);
+  s.simulation.time_step_s = 1e-4;
+  std::vector<double> seen;
+  RunHooks hooks;
+  hooks.progress = [&](double f) { seen.push_back(f); };
+  EXPECT_FALSE(simulate(s, hooks).cancelled);
+  ASSERT_FALSE(seen.empty());
+  for (std::size_t i = 1; i < seen.size(); ++i)
+    EXPECT_GE(seen[i], seen[i - 1]);
+  EXPECT_EQ(seen.back(), 1.0);
+  EXPECT_LE(seen.size(), 202u);
+
+  int polls = 0;
+  hooks.progress = nullptr;
+  hooks.cancel_requested = [&] { return ++polls > 10; };
+  const RunOutcome cancelled = simulate(s, hooks);
+  EXPECT_TRUE(cancelled.cancelled);
+  EXPECT_EQ(cancelled.result.stats.steps, 10u);
+}
+
+TEST(Simulator, ChargesAddAndOutOfRangeIsWarned) {
+  // Two equal charges on both sides of a plate: the net push cancels.
+  scene::Scene s = plate_scene(8.0);
+  s.charges.push_back(tnt(10.0, Vector3d(0.0, 0.0, 8.0)));
+  const Result r = simulate(s).result;
+  EXPECT_NEAR(r.final_state[0].linear_velocity_m_s[2], 0.0, 1e-6);
+  EXPECT_TRUE(r.warnings.empty());
+  // A charge 300 m away: Z far beyond 40 is continued and counted.
+  scene::Scene far = plate_scene(300.0);
+  far.simulation.duration_s = 1.5;
+  const Result f = simulate(far).result;
+  // Z = 139: beyond the fits (continued) and below the reflection chart's 1.4 kPa (clamped).
+  ASSERT_EQ(f.warnings.size(), 2u);
+  EXPECT_EQ(f.warnings[0].code, "blast_out_of_range");
+  EXPECT_EQ(f.warnings[1].code, "reflection_out_of_chart");
+  EXPECT_EQ(f.warnings[0].count, f.stats.panels_loaded);
+}
+
+}  // namespace
+}  // namespace brisance::engine

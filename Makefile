@@ -10,7 +10,7 @@ DEB_PACKAGES := cmake g++ make ninja-build pkg-config \
   libeigen3-dev libboost1.81-dev nlohmann-json3-dev libsqlite3-dev \
   libgtest-dev libgmock-dev libbenchmark-dev
 
-.PHONY: all deps gltf-validator build run test sanitize bench format clean
+.PHONY: all deps gltf-validator build run test sanitize bench accuracy-study format clean
 
 all: build
 
@@ -62,6 +62,11 @@ test: deps gltf-validator
 bench: build
 	$(BUILD_DIR)/release/bench/blast_bench
 	$(BUILD_DIR)/release/bench/step_bench
+
+# Run time versus error of integrators, steps and panel sizes on the example scenes; writes
+# bench/results/accuracy_study.{csv,svg,txt} (docs/simulator.md reads the defaults off it).
+accuracy-study: build
+	$(BUILD_DIR)/release/bench/accuracy_study --scenes scenes --out bench/results | tee bench/results/accuracy_study.txt
 
 format:
 	git ls-files '*.cpp' '*.hpp' | xargs clang-format -i

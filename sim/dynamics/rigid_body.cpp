@@ -197,61 +197,80 @@ bool resolve_ground_contact(const BodyModel& model, BodyState& state, const Grou
   if (lowest > ground.height_m + kContactMargin_m) return false;
   if (lowest < ground.height_m) state.position.y() += ground.height_m - lowest;
 
+  // Per contact, everything that stays fixed over the sweeps: for the normal and the two ground
+  // axes, the angular velocity one unit of impulse adds (I^-1 (r x axis)) and the effective
+  // mass, so a sweep is a few dot products (friction along the fixed x and z axes, clamped to the
+  // Coulomb disc).
+  struct Axis {
+    Vec3 spin;            // I^-1 (arm x axis)
+    double inverse_mass;  // 1/m + (arm x axis) . I^-1 (arm x axis)
+  };
   struct Contact {
     Vec3 arm;
     double approach_speed;  // normal speed before the impulses, for restitution
+    Axis normal, along_x, along_z;
     double normal_impulse = 0.0;
-    Vec3 friction_impulse = Vec3::Zero();
+    double friction_x = 0.0, friction_z = 0.0;
   };
   std::array<Contact, 16> contacts;
   std::size_t count = 0;
   const Mat3 inverse = inverse_inertia_world(model, state.orientation);
   Vec3 omega = inverse * state.angular_momentum;
-  // The deepest points first, at most 16 of them (a face of a box has 4).
+  auto axis = [&](const Vec3& arm, const Vec3& direction) {
+    const Vec3 lever = arm.cross(direction);
+    const Vec3 spin = inverse * lever;
+    return Axis{spin, model.inverse_mass + lever.dot(spin)};
+  };
   for (const Vec3& p : model.hull_points) {
     const Vec3 arm = r * p;
     if (state.position.y() + arm.y() > ground.height_m + kContactMargin_m) continue;
     if (count == contacts.size()) break;
-    contacts[count++] = Contact{arm, (state.velocity + omega.cross(arm)).dot(up)};
+    contacts[count++] = Contact{arm, (state.velocity + omega.cross(arm)).y(), axis(arm, up),
+                                axis(arm, Vec3::UnitX()), axis(arm, Vec3::UnitZ())};
   }
+  Vec3 linear = state.velocity;
+  Vec3 angular_impulse = Vec3::Zero();
+  auto push = [&](const Contact& c, const Vec3& direction, const Axis& a, double impulse) {
+    linear += impulse * model.inverse_mass * direction;
+    omega += impulse * a.spin;
+    angular_impulse += c.arm.cross(impulse * direction);
+  };
   for (int iteration = 0; iteration < kIterations; ++iteration) {
     double largest_change = 0.0;  // N s, this sweep
     for (std::size_t i = 0; i < count; ++i) {
       Contact& c = contacts[i];
       // Normal: no approach, or a bounce for fast impacts.
-      const Vec3 rn = c.arm.cross(up);
-      const double normal_mass = model.inverse_mass + rn.dot(inverse * rn);
-      const double vn = (state.velocity + omega.cross(c.arm)).dot(up);
+      const double vn = linear.y() + omega.z() * c.arm.x() - omega.x() * c.arm.z();
       const double target =
           c.approach_speed < -kBounceThreshold_m_s ? -ground.restitution * c.approach_speed : 0.0;
-      const double accumulated = std::max(c.normal_impulse + (target - vn) / normal_mass, 0.0);
+      const double accumulated =
+          std::max(c.normal_impulse + (target - vn) / c.normal.inverse_mass, 0.0);
       const double dn = accumulated - c.normal_impulse;
       c.normal_impulse = accumulated;
-      largest_change = std::max(largest_change, std::abs(dn));
-      state.velocity += dn * model.inverse_mass * up;
-      state.angular_momentum += c.arm.cross(dn * up);
-      omega = inverse * state.angular_momentum;
-      // Coulomb friction against the sliding velocity, bounded by mu times the normal impulse.
-      const Vec3 v = state.velocity + omega.cross(c.arm);
-      const Vec3 slip = v - v.dot(up) * up;
-      const double slip_speed = slip.norm();
-      if (slip_speed <= 1e-12) continue;
-      const Vec3 direction = slip / slip_speed;
-      const Vec3 rt = c.arm.cross(direction);
-      const double tangent_mass = model.inverse_mass + rt.dot(inverse * rt);
-      Vec3 total = c.friction_impulse - (slip_speed / tangent_mass) * direction;
+      push(c, up, c.normal, dn);
+      // Coulomb friction against the sliding velocity, within mu times the normal impulse.
+      const Vec3 v = linear + omega.cross(c.arm);
+      double fx = c.friction_x - v.x() / c.along_x.inverse_mass;
+      double fz = c.friction_z - v.z() / c.along_z.inverse_mass;
       const double limit = ground.friction * c.normal_impulse;
-      if (total.norm() > limit) total *= limit / total.norm();
-      const Vec3 df = total - c.friction_impulse;
-      c.friction_impulse = total;
-      largest_change = std::max(largest_change, df.norm());
-      state.velocity += df * model.inverse_mass;
-      state.angular_momentum += c.arm.cross(df);
-      omega = inverse * state.angular_momentum;
+      const double magnitude = std::hypot(fx, fz);
+      if (magnitude > limit) {
+        const double scale = magnitude > 0.0 ? limit / magnitude : 0.0;
+        fx *= scale;
+        fz *= scale;
+      }
+      const double dx = fx - c.friction_x, dz = fz - c.friction_z;
+      c.friction_x = fx;
+      c.friction_z = fz;
+      push(c, Vec3::UnitX(), c.along_x, dx);
+      push(c, Vec3::UnitZ(), c.along_z, dz);
+      largest_change = std::max({largest_change, std::abs(dn), std::abs(dx), std::abs(dz)});
     }
-    // Converged: a further sweep would change velocities by under 1e-9 m/s.
-    if (largest_change * model.inverse_mass < 1e-9) break;
+    // Converged: a further sweep would change velocities by under 1 um/s.
+    if (largest_change * model.inverse_mass < 1e-6) break;
   }
+  state.velocity = linear;
+  state.angular_momentum += angular_impulse;
   return true;
 }
 

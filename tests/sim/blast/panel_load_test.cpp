@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include "sim/blast/air.hpp"
+#include "tests/support/quadrature.hpp"
 
 namespace brisance::blast {
 namespace {
@@ -24,14 +25,7 @@ PanelWave typical_wave() {
   return wave;
 }
 
-template <typename F>
-double simpson(F&& f, double a, double b, int intervals = 40000) {
-  const double h = (b - a) / intervals;
-  double sum = f(a) + f(b);
-  for (int i = 1; i < intervals; ++i)
-    sum += f(a + i * h) * (i % 2 ? 4.0 : 2.0);
-  return sum * h / 3.0;
-}
+using testing::simpson;
 
 TEST(NetTranslatory, WithoutClearingCarriesExactlyReflectedMinusIncidentImpulse) {
   const PanelWave wave = typical_wave();

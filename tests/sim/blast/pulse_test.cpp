@@ -6,18 +6,12 @@
 
 #include <gtest/gtest.h>
 
+#include "tests/support/quadrature.hpp"
+
 namespace brisance::blast {
 namespace {
 
-// Composite Simpson integration of any callable, as an independent check of the closed forms.
-template <typename F>
-double simpson(F&& f, double a, double b, int intervals = 20000) {
-  const double h = (b - a) / intervals;
-  double sum = f(a) + f(b);
-  for (int i = 1; i < intervals; ++i)
-    sum += f(a + i * h) * (i % 2 ? 4.0 : 2.0);
-  return sum * h / 3.0;
-}
+using testing::simpson;
 
 TEST(UnitExpMoment, MatchesQuadratureOnBothSidesOfTheSeriesSwitch) {
   for (int j = 0; j <= 4; ++j) {
@@ -164,12 +158,11 @@ TEST(PressureHistory, FirstMomentMatchesQuadratureAndIsConsistentWithImpulses) {
   PressureHistory history;
   history.add(pulse.piece());
   history.add(pulse.squared_piece(5e4));
-  for (auto [a, b] : {std::pair{0.0, 4e-3}, {1e-3, 1.5e-3}, {-1e-3, 2e-3}, {3e-3, 6e-3},
-                      {2e-3, 2e-3 + 1e-9}}) {
+  for (auto [a, b] :
+       {std::pair{0.0, 4e-3}, {1e-3, 1.5e-3}, {-1e-3, 2e-3}, {3e-3, 6e-3}, {2e-3, 2e-3 + 1e-9}}) {
     const double quad = simpson([&](double t) { return (b - t) * history.pressure_pa(t); },
                                 std::max(a, 0.0), std::min(b, 4e-3 * (1 - 1e-12)), 200000);
-    EXPECT_NEAR(history.moment_pa_s2(a, b), quad, 1e-8 * std::abs(quad) + 1e-20)
-        << a << " " << b;
+    EXPECT_NEAR(history.moment_pa_s2(a, b), quad, 1e-8 * std::abs(quad) + 1e-20) << a << " " << b;
   }
   // Splitting [a, c] at b: M(a, c) = M(a, b) + (c - b) I(a, b) + M(b, c).
   const double a = 0.3e-3, b = 1.7e-3, c = 3.1e-3;

@@ -96,14 +96,9 @@ std::uint32_t accessor_index(const Glb& glb, std::size_t accessor, std::size_t i
   return read_u32(glb.bin, at + 4 * i);
 }
 
-// A box of half extents (hx, hy, hz), outward winding.
+// A box of half extents (hx, hy, hz).
 geometry::TriangleMesh box(double hx, double hy, double hz) {
-  geometry::TriangleMesh mesh;
-  for (int i = 0; i < 8; ++i)
-    mesh.vertices.emplace_back(i & 1 ? hx : -hx, i & 2 ? hy : -hy, i & 4 ? hz : -hz);
-  mesh.triangles = {{0, 2, 1}, {1, 2, 3}, {4, 5, 6}, {5, 7, 6}, {0, 1, 4}, {1, 5, 4},
-                    {2, 6, 3}, {3, 6, 7}, {0, 4, 2}, {2, 4, 6}, {1, 3, 5}, {3, 7, 5}};
-  return mesh;
+  return geometry::make_box(geometry::Vec3(2.0 * hx, 2.0 * hy, 2.0 * hz));
 }
 
 // A strip of `count` triangles in the z = 0 plane (the writer needs no closed mesh).

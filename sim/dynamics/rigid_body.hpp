@@ -4,9 +4,10 @@
 // scenes: the engine hands it impulses.
 #pragma once
 
+#include <vector>
+
 #include <Eigen/Core>
 #include <Eigen/Geometry>
-#include <vector>
 
 namespace brisance::dynamics {
 
@@ -34,7 +35,7 @@ struct DragShape {
 struct BodyModel {
   double mass_kg = 1.0;
   double inverse_mass = 1.0;
-  Mat3 inertia_body = Mat3::Identity();          // about the centre of mass, body axes
+  Mat3 inertia_body = Mat3::Identity();  // about the centre of mass, body axes
   Mat3 inverse_inertia_body = Mat3::Identity();
   // Set when the body axes are principal axes (boxes, most symmetric shapes): the hot path then
   // multiplies by a diagonal. Use set_inertia() to keep these consistent.
@@ -43,8 +44,8 @@ struct BodyModel {
   bool rotates = true;
   double drag_coefficient = 1.0;
   DragShape drag_shape;
-  double bounding_radius_m = 0.0;                // from the centre of mass
-  std::vector<Vec3> hull_points;                 // body frame, relative to the centre of mass
+  double bounding_radius_m = 0.0;  // from the centre of mass
+  std::vector<Vec3> hull_points;   // body frame, relative to the centre of mass
 };
 
 struct BodyState {
@@ -56,9 +57,9 @@ struct BodyState {
 
 // What the blast does to a body over one step [t0, t0 + dt], all world frame.
 struct StepLoads {
-  Vec3 impulse = Vec3::Zero();             // integral of F dt, N s
-  Vec3 angular_impulse = Vec3::Zero();     // integral of r x F dt, N m s
-  Vec3 impulse_moment = Vec3::Zero();      // integral of (t0 + dt - t) F dt, N s^2 (rk4 only)
+  Vec3 impulse = Vec3::Zero();          // integral of F dt, N s
+  Vec3 angular_impulse = Vec3::Zero();  // integral of r x F dt, N m s
+  Vec3 impulse_moment = Vec3::Zero();   // integral of (t0 + dt - t) F dt, N s^2 (rk4 only)
 };
 
 struct WorldSettings {

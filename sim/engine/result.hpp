@@ -28,8 +28,8 @@ struct BodyInfo {
 struct FinalState {
   std::string name;
   Pose pose;
-  std::array<double, 3> linear_velocity_m_s{};    // world frame, of the centre of mass
-  std::array<double, 3> angular_velocity_rad_s{}; // world frame
+  std::array<double, 3> linear_velocity_m_s{};     // world frame, of the centre of mass
+  std::array<double, 3> angular_velocity_rad_s{};  // world frame
 };
 
 // What the run skipped or did, for the `stats` object of the result (DESIGN.md decision 10).
@@ -37,18 +37,18 @@ struct Stats {
   std::uint64_t steps = 0;
   double simulated_time_s = 0.0;
   double wall_time_s = 0.0;
-  bool ended_early = false;              // everything at rest or gone before `duration`
+  bool ended_early = false;  // everything at rest or gone before `duration`
   std::uint64_t bodies = 0;
   std::uint64_t bodies_anchored = 0;
-  std::uint64_t bodies_never_released = 0;  // held by friction throughout: never integrated
-  std::uint64_t bodies_slept = 0;           // came to rest and stopped being integrated
-  std::uint64_t bodies_static_in_frames = 0; // stored once instead of per frame
+  std::uint64_t bodies_never_released = 0;    // held by friction throughout: never integrated
+  std::uint64_t bodies_slept = 0;             // came to rest and stopped being integrated
+  std::uint64_t bodies_static_in_frames = 0;  // stored once instead of per frame
   std::uint64_t panels = 0;
   std::uint64_t panels_loaded = 0;
-  std::uint64_t panels_back_facing = 0;     // facing away from every charge: never loaded
-  std::uint64_t panels_not_reached = 0;     // the wave arrived after the run ended
-  std::uint64_t body_steps = 0;             // bodies integrated, summed over steps
-  bool occlusion_skipped = true;            // no occlusion pass ran
+  std::uint64_t panels_back_facing = 0;  // facing away from every charge: never loaded
+  std::uint64_t panels_not_reached = 0;  // the wave arrived after the run ended
+  std::uint64_t body_steps = 0;          // bodies integrated, summed over steps
+  bool occlusion_skipped = true;         // no occlusion pass ran
 };
 
 // A counted warning: numerical trouble or input at the edge of the model, never silent.

@@ -2,12 +2,13 @@
 // Units: metres, kilograms; every quantity is in the mesh's own frame unless stated.
 #pragma once
 
-#include <Eigen/Core>
 #include <array>
 #include <cstdint>
 #include <optional>
 #include <string>
 #include <vector>
+
+#include <Eigen/Core>
 
 namespace brisance::geometry {
 
@@ -16,8 +17,8 @@ using Mat3 = Eigen::Matrix3d;
 
 // A closed triangle mesh; triangles wind counter-clockwise seen from outside (outward normals).
 struct TriangleMesh {
-  std::vector<Vec3> vertices;                          // m, mesh frame
-  std::vector<std::array<std::uint32_t, 3>> triangles; // vertex indices
+  std::vector<Vec3> vertices;                           // m, mesh frame
+  std::vector<std::array<std::uint32_t, 3>> triangles;  // vertex indices
 };
 
 // A box of full edge lengths size (x, y, z), centred on the origin, 8 vertices and 12 triangles.
@@ -34,15 +35,15 @@ std::optional<std::string> check_closed_mesh(const TriangleMesh& mesh);
 struct MassProperties {
   double volume_m3 = 0.0;
   double mass_kg = 0.0;
-  Vec3 centre_of_mass = Vec3::Zero();   // mesh frame
-  Mat3 inertia_kg_m2 = Mat3::Zero();    // about the centre of mass, axes of the mesh frame
+  Vec3 centre_of_mass = Vec3::Zero();  // mesh frame
+  Mat3 inertia_kg_m2 = Mat3::Zero();   // about the centre of mass, axes of the mesh frame
 };
 MassProperties mass_properties(const TriangleMesh& mesh, double density_kg_m3);
 
 // A planar piece of the surface that the blast loads (thesis §3.5.1).
 struct Panel {
-  Vec3 centre = Vec3::Zero();          // area centroid, mesh frame
-  Vec3 outward_normal = Vec3::UnitZ(); // unit
+  Vec3 centre = Vec3::Zero();           // area centroid, mesh frame
+  Vec3 outward_normal = Vec3::UnitZ();  // unit
   double area_m2 = 0.0;
   // Half the smaller extent of the face the panel was cut from, m: the clearing distance S
   // of thesis eq. 2.31 for this face.

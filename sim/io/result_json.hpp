@@ -13,6 +13,7 @@
 #pragma once
 
 #include <iosfwd>
+
 #include <nlohmann/json_fwd.hpp>
 
 #include "sim/engine/result.hpp"

@@ -3,14 +3,15 @@
 // Units: SI throughout (m, kg, s, Pa); +Y up; quaternions [x, y, z, w] on the wire.
 #pragma once
 
-#include <Eigen/Core>
-#include <Eigen/Geometry>
 #include <cstdint>
-#include <nlohmann/json_fwd.hpp>
 #include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <nlohmann/json_fwd.hpp>
 
 #include "sim/blast/blast_point.hpp"
 #include "sim/blast/pulse.hpp"
@@ -22,10 +23,10 @@ using Vec3 = Eigen::Vector3d;
 using Quat = Eigen::Quaterniond;
 
 struct ChargeSpec {
-  Vec3 position = Vec3::Zero();      // world, m
-  double mass_kg = 1.0;              // mass of explosive, > 0
-  std::string explosive = "TNT";     // canonical name from blast::known_explosives(), or "custom"
-  double tnt_factor = 1.0;           // W = mass_kg * tnt_factor
+  Vec3 position = Vec3::Zero();   // world, m
+  double mass_kg = 1.0;           // mass of explosive, > 0
+  std::string explosive = "TNT";  // canonical name from blast::known_explosives(), or "custom"
+  double tnt_factor = 1.0;        // W = mass_kg * tnt_factor
   blast::Burst burst = blast::Burst::air;
   blast::SurfaceBurstModel surface_model = blast::SurfaceBurstModel::hemispherical;
 };
@@ -38,7 +39,7 @@ struct GroundSpec {
 
 struct EnvironmentSpec {
   Vec3 gravity_m_s2 = Vec3(0.0, -9.81, 0.0);
-  double air_density_kg_m3 = 1.225;   // 0 turns flight drag off
+  double air_density_kg_m3 = 1.225;  // 0 turns flight drag off
   double ambient_pressure_pa = 101325.0;
   std::optional<GroundSpec> ground = GroundSpec{};  // null in JSON: no ground
 };
@@ -46,45 +47,45 @@ struct EnvironmentSpec {
 enum class ShapeType { box, mesh };
 
 struct ObjectSpec {
-  std::string name;                  // unique within the scene
+  std::string name;  // unique within the scene
   ShapeType shape = ShapeType::box;
-  Vec3 box_size_m = Vec3::Ones();    // full edge lengths, for ShapeType::box
-  geometry::TriangleMesh mesh;       // the shape as a mesh in its own frame (boxes included)
-  Vec3 position = Vec3::Zero();      // world position of the shape's origin, m
+  Vec3 box_size_m = Vec3::Ones();  // full edge lengths, for ShapeType::box
+  geometry::TriangleMesh mesh;     // the shape as a mesh in its own frame (boxes included)
+  Vec3 position = Vec3::Zero();    // world position of the shape's origin, m
   Quat orientation = Quat::Identity();
-  double mass_kg = 0.0;              // resolved: given mass, or density * volume
-  double friction = 0.5;             // mu of the frictional hold (thesis §3.6), >= 0
-  double drag_coefficient = 1.0;     // C_D for blast drag and flight drag
-  bool anchored = false;             // never moves
-  bool blocks = true;                // casts a blast shadow (occlusion, later)
-  bool rotates = true;               // false: translation only
-  std::string material;              // optional name from the materials table
+  double mass_kg = 0.0;           // resolved: given mass, or density * volume
+  double friction = 0.5;          // mu of the frictional hold (thesis §3.6), >= 0
+  double drag_coefficient = 1.0;  // C_D for blast drag and flight drag
+  bool anchored = false;          // never moves
+  bool blocks = true;             // casts a blast shadow (occlusion, later)
+  bool rotates = true;            // false: translation only
+  std::string material;           // optional name from the materials table
 };
 
 enum class Integrator { explicit_euler, semi_implicit_euler, rk4 };
 enum class OcclusionMode { automatic, on, off };
 
 struct SimulationSpec {
-  double duration_s = 2.0;               // (0, max_duration_s]
-  double frame_rate_hz = 30.0;           // frames at exact multiples of 1 / frame_rate
-  std::optional<double> time_step_s;     // fixed step; if absent the step follows `tolerance`
-  double tolerance = 1e-3;               // relative error target of the adaptive step
+  double duration_s = 2.0;            // (0, max_duration_s]
+  double frame_rate_hz = 30.0;        // frames at exact multiples of 1 / frame_rate
+  std::optional<double> time_step_s;  // fixed step; if absent the step follows `tolerance`
+  double tolerance = 1e-3;            // relative error target of the adaptive step
   std::uint64_t seed = 0;
   bool clearing = true;
   OcclusionMode occlusion = OcclusionMode::automatic;
   Integrator integrator = Integrator::semi_implicit_euler;
   blast::PulseShape pulse_shape = blast::PulseShape::friedlander;
-  double max_panel_area_m2 = 0.05;       // larger faces are cut into panels of at most this
-  double linear_damping = 0.0;           // per second, thesis §6.5 global damping
-  double angular_damping = 0.0;          // per second
-  double rotation_factor = 1.0;          // scales blast torques (thesis §6.5)
-  bool sleep = true;                     // bodies at rest on the ground stop being integrated
+  double max_panel_area_m2 = 0.05;  // larger faces are cut into panels of at most this
+  double linear_damping = 0.0;      // per second, thesis §6.5 global damping
+  double angular_damping = 0.0;     // per second
+  double rotation_factor = 1.0;     // scales blast torques (thesis §6.5)
+  bool sleep = true;                // bodies at rest on the ground stop being integrated
 };
 
 struct Scene {
   std::vector<ChargeSpec> charges;
   EnvironmentSpec environment;
-  std::vector<ObjectSpec> objects;       // generators already expanded into objects
+  std::vector<ObjectSpec> objects;  // generators already expanded into objects
   SimulationSpec simulation;
 };
 
@@ -92,11 +93,11 @@ struct Scene {
 struct Limits {
   std::size_t max_objects = 20000;
   std::size_t max_charges = 64;
-  std::size_t max_mesh_vertices = 200000;     // per mesh
-  std::size_t max_panels = 2000000;           // whole scene, after subdivision
+  std::size_t max_mesh_vertices = 200000;  // per mesh
+  std::size_t max_panels = 2000000;        // whole scene, after subdivision
   double max_duration_s = 600.0;
   double max_frame_rate_hz = 1000.0;
-  std::size_t max_frame_samples = 50000000;   // frames x bodies
+  std::size_t max_frame_samples = 50000000;  // frames x bodies
 };
 
 // One problem with the input: an RFC 6901 JSON pointer to the offending value and a message that

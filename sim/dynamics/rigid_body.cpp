@@ -182,7 +182,8 @@ Vec3 integrate(const BodyModel& model, BodyState& state, const StepLoads& loads,
   return integrate_rotation(model, state, loads, world, dt);
 }
 
-bool resolve_ground_contact(const BodyModel& model, BodyState& state, const Ground& ground) {
+bool resolve_ground_contact(const BodyModel& model, BodyState& state, const Ground& ground,
+                            ContactMemory* memory) {
   constexpr double kContactMargin_m = 1e-4;     // points this close count as touching
   constexpr double kBounceThreshold_m_s = 0.5;  // slower impacts do not bounce (no jitter)
   constexpr int kIterations = 8;
@@ -194,7 +195,12 @@ bool resolve_ground_contact(const BodyModel& model, BodyState& state, const Grou
   double lowest = INFINITY;
   for (const Vec3& p : model.hull_points)
     lowest = std::min(lowest, state.position.y() + r.row(1).dot(p));
-  if (lowest > ground.height_m + kContactMargin_m) return false;
+  if (memory != nullptr) memory->impulses.resize(model.hull_points.size());
+  if (lowest > ground.height_m + kContactMargin_m) {
+    if (memory != nullptr)
+      std::fill(memory->impulses.begin(), memory->impulses.end(), std::array<double, 3>{});
+    return false;
+  }
   if (lowest < ground.height_m) state.position.y() += ground.height_m - lowest;
 
   // Per contact, everything that stays fixed over the sweeps: for the normal and the two ground
@@ -206,6 +212,7 @@ bool resolve_ground_contact(const BodyModel& model, BodyState& state, const Grou
     double inverse_mass;  // 1/m + (arm x axis) . I^-1 (arm x axis)
   };
   struct Contact {
+    std::size_t point;  // index into hull_points
     Vec3 arm;
     double approach_speed;  // normal speed before the impulses, for restitution
     Axis normal, along_x, along_z;
@@ -221,12 +228,19 @@ bool resolve_ground_contact(const BodyModel& model, BodyState& state, const Grou
     const Vec3 spin = inverse * lever;
     return Axis{spin, model.inverse_mass + lever.dot(spin)};
   };
-  for (const Vec3& p : model.hull_points) {
-    const Vec3 arm = r * p;
-    if (state.position.y() + arm.y() > ground.height_m + kContactMargin_m) continue;
-    if (count == contacts.size()) break;
-    contacts[count++] = Contact{arm, (state.velocity + omega.cross(arm)).y(), axis(arm, up),
-                                axis(arm, Vec3::UnitX()), axis(arm, Vec3::UnitZ())};
+  for (std::size_t i = 0; i < model.hull_points.size(); ++i) {
+    const Vec3 arm = r * model.hull_points[i];
+    const bool touching = state.position.y() + arm.y() <= ground.height_m + kContactMargin_m;
+    if (!touching || count == contacts.size()) {
+      if (memory != nullptr) memory->impulses[i] = {};
+      continue;
+    }
+    contacts[count++] = Contact{i,
+                                arm,
+                                (state.velocity + omega.cross(arm)).y(),
+                                axis(arm, up),
+                                axis(arm, Vec3::UnitX()),
+                                axis(arm, Vec3::UnitZ())};
   }
   Vec3 linear = state.velocity;
   Vec3 angular_impulse = Vec3::Zero();
@@ -235,6 +249,22 @@ bool resolve_ground_contact(const BodyModel& model, BodyState& state, const Grou
     omega += impulse * a.spin;
     angular_impulse += c.arm.cross(impulse * direction);
   };
+  if (memory != nullptr) {
+    // Warm start: last step's impulses (friction kept inside the Coulomb disc).
+    for (std::size_t i = 0; i < count; ++i) {
+      Contact& c = contacts[i];
+      const auto& last = memory->impulses[c.point];
+      c.normal_impulse = std::max(0.0, last[0]);
+      const double limit = ground.friction * c.normal_impulse;
+      const double magnitude = std::hypot(last[1], last[2]);
+      const double scale = magnitude > limit && magnitude > 0.0 ? limit / magnitude : 1.0;
+      c.friction_x = last[1] * scale;
+      c.friction_z = last[2] * scale;
+      push(c, up, c.normal, c.normal_impulse);
+      push(c, Vec3::UnitX(), c.along_x, c.friction_x);
+      push(c, Vec3::UnitZ(), c.along_z, c.friction_z);
+    }
+  }
   for (int iteration = 0; iteration < kIterations; ++iteration) {
     double largest_change = 0.0;  // N s, this sweep
     for (std::size_t i = 0; i < count; ++i) {
@@ -271,6 +301,10 @@ bool resolve_ground_contact(const BodyModel& model, BodyState& state, const Grou
   }
   state.velocity = linear;
   state.angular_momentum += angular_impulse;
+  if (memory != nullptr)
+    for (std::size_t i = 0; i < count; ++i)
+      memory->impulses[contacts[i].point] = {contacts[i].normal_impulse, contacts[i].friction_x,
+                                             contacts[i].friction_z};
   return true;
 }
 

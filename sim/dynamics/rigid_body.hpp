@@ -87,9 +87,18 @@ struct Ground {
   double restitution = 0.2;
 };
 
+// The impulses each hull point took from the ground last step (normal, along x, along z; N s),
+// so the next step starts from them (warm starting): a resting body's contact then settles in
+// one or two sweeps instead of eight.
+struct ContactMemory {
+  std::vector<std::array<double, 3>> impulses;  // per hull point; zero where not touching
+};
+
 // Resolves contact of a body with the plane y = ground.height_m after a step: pushes it out of
 // the ground and applies normal and friction impulses at the penetrating hull points
-// (sequential impulses with accumulated clamping). Returns true if the body touches the ground.
-bool resolve_ground_contact(const BodyModel& model, BodyState& state, const Ground& ground);
+// (sequential impulses with accumulated clamping, warm-started from `memory` when given).
+// Returns true if the body touches the ground.
+bool resolve_ground_contact(const BodyModel& model, BodyState& state, const Ground& ground,
+                            ContactMemory* memory = nullptr);
 
 }  // namespace brisance::dynamics

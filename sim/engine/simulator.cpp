@@ -427,6 +427,7 @@ class Run {
   std::vector<dynamics::BodyState> states_;
   std::vector<Motion> motion_;
   std::vector<double> rest_time_s_;
+  std::vector<dynamics::ContactMemory> contacts_;  // per body, for warm-started ground contact
   std::vector<std::uint8_t> moved_;
   std::vector<std::uint8_t> panel_loaded_;
   std::vector<dynamics::StepLoads> loads_;
@@ -567,7 +568,8 @@ void Run::integrate_awake(double dt) {
     const dynamics::BodyState before = state;
     const Vec3 omega = dynamics::integrate(body, state, loads_[b], model_.world, dt);
     bool touching = false;
-    if (model_.ground) touching = dynamics::resolve_ground_contact(body, state, *model_.ground);
+    if (model_.ground)
+      touching = dynamics::resolve_ground_contact(body, state, *model_.ground, &contacts_[b]);
     if (!finite(state)) {
       state = before;
       motion_[b] = Motion::asleep;
@@ -654,6 +656,7 @@ bool Run::execute(const RunHooks& hooks) {
   }
   motion_ = model_.initial_motion;
   rest_time_s_.assign(bodies, 0.0);
+  contacts_.assign(bodies, dynamics::ContactMemory{});
   moved_.assign(bodies, 0);
   is_loaded_.assign(bodies, 0);
   peak_force_.assign(bodies, Vec3::Zero());

@@ -159,11 +159,15 @@ Vec3 integrate(const BodyModel& model, BodyState& state, const StepLoads& loads,
   assert(dt > 0.0);
   const Vec3 velocity_change = loads.impulse * model.inverse_mass + world.gravity_m_s2 * dt;
   switch (world.integrator) {
-    case Integrator::explicit_euler:
-      state.position += state.velocity * dt;
+    case Integrator::explicit_euler: {
+      // Thesis §3.5: constant acceleration over the step, velocity first, then the displacement
+      // from the average of the old and new velocities.
+      const Vec3 start_velocity = state.velocity;
       state.velocity += velocity_change;
       apply_drag(model, state, world, dt);
+      state.position += 0.5 * (start_velocity + state.velocity) * dt;
       break;
+    }
     case Integrator::semi_implicit_euler:
       state.velocity += velocity_change;
       apply_drag(model, state, world, dt);

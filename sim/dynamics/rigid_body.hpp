@@ -18,7 +18,8 @@ using Quat = Eigen::Quaterniond;
 // Which scheme advances a body over a step (the default is chosen by the run-time-versus-error
 // study in bench/).
 enum class Integrator {
-  explicit_euler,       // thesis §3.5: x += v dt, then v += a dt; omega form of Euler's equation
+  explicit_euler,       // thesis §3.5: v += a dt, x += mean velocity dt; explicit omega form of
+                        // Euler's equation for the rotation
   semi_implicit_euler,  // v first, then x with the new v; angular momentum form
   rk4,                  // loads by their exact first moment, RK4 for drag and rotation
 };

@@ -28,6 +28,24 @@ if(BRISANCE_NODE_EXECUTABLE)
                    ${BRISANCE_GLB_SAMPLES_DIR}
            WORKING_DIRECTORY ${BRISANCE_GLTF_DIR})
   set_tests_properties(io.gltf_validator PROPERTIES FIXTURES_REQUIRED glb_samples TIMEOUT 300)
+
+  # End to end: the real CLI simulates the brick wall; its .glb must pass the validator and load
+  # in three.js (GLTFLoader, as a viewer loads it) with 33 meshes and 33 animated bodies.
+  set(BRISANCE_E2E_DIR ${CMAKE_CURRENT_BINARY_DIR}/e2e)
+  file(MAKE_DIRECTORY ${BRISANCE_E2E_DIR})
+  add_test(NAME e2e.brick_wall_glb
+           COMMAND brisance run ${PROJECT_SOURCE_DIR}/scenes/brick_wall.json
+                   -o ${BRISANCE_E2E_DIR}/brick_wall.glb)
+  set_tests_properties(e2e.brick_wall_glb PROPERTIES FIXTURES_SETUP e2e_glb)
+  add_test(NAME e2e.brick_wall_gltf_validator
+           COMMAND ${BRISANCE_NODE_EXECUTABLE} ${BRISANCE_GLTF_DIR}/validate.mjs ${BRISANCE_E2E_DIR}
+           WORKING_DIRECTORY ${BRISANCE_GLTF_DIR})
+  add_test(NAME e2e.brick_wall_three_js
+           COMMAND ${BRISANCE_NODE_EXECUTABLE} ${BRISANCE_GLTF_DIR}/load_in_three.mjs
+                   ${BRISANCE_E2E_DIR}/brick_wall.glb 33 33
+           WORKING_DIRECTORY ${BRISANCE_GLTF_DIR})
+  set_tests_properties(e2e.brick_wall_gltf_validator e2e.brick_wall_three_js
+                       PROPERTIES FIXTURES_REQUIRED e2e_glb TIMEOUT 300)
 else()
   message(WARNING "io.gltf_validator will fail: node was not found on PATH. Install the Debian "
                   "packages nodejs and npm, run `npm ci --prefix tests/gltf`, then re-run CMake.")

@@ -46,10 +46,12 @@ build: deps $(BUILD_DIR)/release/CMakeCache.txt
 	cmake --build $(BUILD_DIR)/release -j $(JOBS)
 
 # Builds the release binary and runs it. The HTTP service (`brisance serve`) is not in this build
-# yet; until it lands this shows the CLI and a blast calculation.
+# yet; until it lands this shows a blast calculation and simulates the thesis's brick wall into
+# build/brick_wall.glb (open it in any glTF viewer).
 run: build
 	$(BUILD_DIR)/release/cli/brisance version
 	$(BUILD_DIR)/release/cli/brisance blast --charge-kg 100 --distance-m 15
+	$(BUILD_DIR)/release/cli/brisance run scenes/brick_wall.json -o $(BUILD_DIR)/brick_wall.glb
 
 # The whole test suite, built with AddressSanitizer + UndefinedBehaviorSanitizer and warnings as
 # errors, run through CTest.

@@ -20,6 +20,17 @@ inline scene::ObjectSpec box_object(const std::string& name, const Eigen::Vector
   return object;
 }
 
+// `count` boxes named b0, b1, ... in rows of `per_row` along x (centres x0 + pitch * column),
+// stacked row on row from the height `bottom` of the first row's base.
+inline void add_box_grid(scene::Scene& scene, int count, int per_row, const Eigen::Vector3d& size,
+                         double pitch, double x0, double bottom, double mass) {
+  for (int i = 0; i < count; ++i) {
+    const Eigen::Vector3d centre(pitch * (i % per_row) + x0,
+                                 bottom + 0.5 * size.y() + size.y() * (i / per_row), 0.0);
+    scene.objects.push_back(box_object("b" + std::to_string(i), size, centre, mass));
+  }
+}
+
 inline scene::ChargeSpec tnt(double mass_kg, const Eigen::Vector3d& position) {
   scene::ChargeSpec charge;
   charge.mass_kg = mass_kg;

@@ -175,10 +175,7 @@ TEST(Simulator, BlownBrickFliesFallsAndSleeps) {
 TEST(Simulator, DeterministicBitForBit) {
   scene::Scene s;
   s.charges.push_back(tnt(50.0, Vector3d(0.2, 0.6, -6.0)));
-  for (int i = 0; i < 12; ++i)
-    s.objects.push_back(box_object("b" + std::to_string(i), Vector3d(0.3, 0.15, 0.15),
-                                   Vector3d(0.35 * (i % 4) - 0.5, 0.075 + 0.15 * (i / 4), 0.0),
-                                   8.0));
+  testing::add_box_grid(s, 12, 4, Vector3d(0.3, 0.15, 0.15), 0.35, -0.5, 0.0, 8.0);
   s.simulation.duration_s = 1.0;
   const Result a = simulate(s).result;
   const Result b = simulate(s).result;

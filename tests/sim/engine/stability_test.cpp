@@ -104,9 +104,7 @@ TEST(Stability, VeryLargeAndVerySmallSteps) {
   for (double step : {0.1, 1e-6}) {
     scene::Scene s;
     s.charges.push_back(tnt(50.0, Vector3d(0.0, 0.5, -5.0)));
-    for (int i = 0; i < 4; ++i)
-      s.objects.push_back(box_object("b" + std::to_string(i), Vector3d(0.3, 0.2, 0.2),
-                                     Vector3d(0.4 * i - 0.6, 0.1, 0.0), 6.0));
+    testing::add_box_grid(s, 4, 4, Vector3d(0.3, 0.2, 0.2), 0.4, -0.6, 0.0, 6.0);
     s.simulation.time_step_s = step;
     s.simulation.duration_s = step > 0.01 ? 5.0 : 0.05;
     const Result r = simulate(s).result;
@@ -119,10 +117,7 @@ TEST(Stability, VeryLargeAndVerySmallSteps) {
 TEST(Stability, SixtySecondRunComesToRest) {
   scene::Scene s;
   s.charges.push_back(tnt(200.0, Vector3d(0.0, 0.5, -8.0)));
-  for (int i = 0; i < 20; ++i)
-    s.objects.push_back(box_object("b" + std::to_string(i), Vector3d(0.3, 0.15, 0.15),
-                                   Vector3d(0.35 * (i % 5) - 0.7, 0.075 + 0.15 * (i / 5), 0.0),
-                                   8.0));
+  testing::add_box_grid(s, 20, 5, Vector3d(0.3, 0.15, 0.15), 0.35, -0.7, 0.0, 8.0);
   s.simulation.duration_s = 60.0;
   s.simulation.frame_rate_hz = 10.0;
   const Result r = simulate(s).result;
@@ -137,10 +132,7 @@ TEST(Stability, SixtySecondRunComesToRest) {
 TEST(Stability, ThousandsOfBodies) {
   scene::Scene s;
   s.charges.push_back(tnt(500.0, Vector3d(0.0, 2.0, -15.0)));
-  for (int i = 0; i < 2500; ++i)
-    s.objects.push_back(box_object("b" + std::to_string(i), Vector3d(0.2, 0.1, 0.1),
-                                   Vector3d(0.25 * (i % 50) - 6.0, 0.05 + 0.1 * (i / 50), 0.0),
-                                   2.0));
+  testing::add_box_grid(s, 2500, 50, Vector3d(0.2, 0.1, 0.1), 0.25, -6.0, 0.0, 2.0);
   s.simulation.duration_s = 1.0;
   const Result r = simulate(s).result;
   expect_all_finite(r);
@@ -156,9 +148,8 @@ TEST(Stability, EnergyIsConstantAfterTheLoadInVacuum) {
                                    {scene::Integrator::rk4, 1e-6}}) {
     scene::Scene s = testing::vacuum_scene();
     s.charges.push_back(tnt(20.0, Vector3d(0.3, 0.2, -3.0)));
-    for (int i = 0; i < 5; ++i)
-      s.objects.push_back(box_object("b" + std::to_string(i), Vector3d(0.3, 0.15, 0.1),
-                                     Vector3d(0.4 * i - 0.8, 0.0, 0.0), 5.0));
+    testing::add_box_grid(s, 5, 5, Vector3d(0.3, 0.15, 0.1), 0.4, -0.8, -0.075,
+                          5.0);  // centred on y = 0
     s.simulation.integrator = integrator;
     s.simulation.duration_s = 1.0;
     const Result early = simulate(s).result;

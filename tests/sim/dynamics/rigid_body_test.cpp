@@ -1,7 +1,10 @@
 // Tests of sim/dynamics: integrators against closed forms, drag, ground contact.
 #include "sim/dynamics/rigid_body.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <utility>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -18,8 +21,9 @@ BodyModel box_model(double mass, const Vec3& size) {
     m.hull_points.push_back(0.5 * Vec3((i & 1 ? 1 : -1) * size.x(), (i & 2 ? 1 : -1) * size.y(),
                                        (i & 4 ? 1 : -1) * size.z()));
   m.bounding_radius_m = 0.5 * size.norm();
-  m.drag_shape.face_normals = {Vec3::UnitX(), Vec3::UnitY(), Vec3::UnitZ()};
-  m.drag_shape.face_areas = {size.y() * size.z(), size.x() * size.z(), size.x() * size.y()};
+  m.drag_shape.add_face(Vec3::UnitX(), size.y() * size.z());
+  m.drag_shape.add_face(Vec3::UnitY(), size.x() * size.z());
+  m.drag_shape.add_face(Vec3::UnitZ(), size.x() * size.y());
   return m;
 }
 
@@ -241,6 +245,116 @@ TEST(GroundContact, FastImpactBouncesWithRestitution) {
   EXPECT_NEAR(state.velocity.y(), 3.0, 0.01 * 3.0);
   EXPECT_LT(angular_velocity(body, state).norm(), 0.1);
   EXPECT_NEAR(state.position.y(), 0.1, 1e-12);
+}
+
+TEST(GroundContact, RestingFaceStopsWithinTheCoulombLimitOnly) {
+  // A brick on its narrow 40 x 10 cm face (tall for its base: the sweeps converge slowly
+  // there), resting, then nudged sideways in one step. Below mu g dt the contact takes all its
+  // momentum at once and it stands exactly still; above, it slides on, slowed by mu g dt.
+  const BodyModel body = box_model(10.0, Vec3(0.4, 0.15, 0.1));
+  WorldSettings world;
+  world.air_density_kg_m3 = 0.0;
+  const Ground ground{0.0, 0.6, 0.2};
+  const double dt = 5e-3;
+  const double limit = ground.friction * 9.81 * dt;  // m/s
+  for (double nudge : {0.5, 3.0}) {
+    BodyState state;
+    state.position = Vec3(0.0, 0.075, 0.0);
+    ContactMemory memory;
+    for (int i = 0; i < 20; ++i) {
+      integrate(body, state, StepLoads{}, world, dt);
+      ASSERT_TRUE(resolve_ground_contact(body, state, ground, &memory));
+    }
+    EXPECT_EQ(state.velocity, Vec3::Zero());
+    state.velocity.x() = nudge * limit;
+    integrate(body, state, StepLoads{}, world, dt);
+    ASSERT_TRUE(resolve_ground_contact(body, state, ground, &memory));
+    double normal = 0.0;
+    for (const auto& impulse : memory.impulses) {
+      EXPECT_GE(impulse[0], 0.0);
+      normal += impulse[0];
+    }
+    EXPECT_NEAR(normal, 10.0 * 9.81 * dt, 1e-3 * 10.0 * 9.81 * dt) << nudge;
+    if (nudge < 1.0) {
+      EXPECT_EQ(state.velocity, Vec3::Zero());
+      EXPECT_EQ(state.angular_momentum, Vec3::Zero());
+    } else {
+      EXPECT_NEAR(state.velocity.x(), (nudge - 1.0) * limit, 0.02 * limit);
+    }
+    EXPECT_NEAR(state.position.y(), 0.075, 1e-6) << nudge;
+  }
+}
+
+TEST(GroundContact, BoxOnAnEdgePivotsAboutIt) {
+  // A cube standing on an edge (turned 30 degrees about z), rocking slowly: the contact stops
+  // both ends of the edge and keeps the angular momentum about the edge, so the cube pivots.
+  const BodyModel body = box_model(3.0, Vec3(0.2, 0.2, 0.2));
+  const Ground ground{0.0, 0.8, 0.0};
+  BodyState state;
+  state.orientation = Quat(Eigen::AngleAxisd(M_PI / 6.0, Vec3::UnitZ()));
+  const Mat3 r = state.orientation.toRotationMatrix();
+  double lowest = INFINITY;
+  for (const Vec3& p : body.hull_points)
+    lowest = std::min(lowest, (r * p).y());
+  state.position = Vec3(0.0, -lowest - 1e-5, 0.0);  // the edge 10 um into the ground
+  const Vec3 omega(0.0, 0.0, 0.5);
+  state.angular_momentum = r * body.inertia_body * r.transpose() * omega;
+  state.velocity = Vec3(0.01, -0.05, 0.0);
+  std::vector<Vec3> edge;
+  for (const Vec3& p : body.hull_points)
+    if ((r * p).y() < lowest + 1e-9) edge.push_back(r * p);
+  ASSERT_EQ(edge.size(), 2u);
+  const Vec3 axis = (edge[1] - edge[0]).normalized();
+  auto about_edge = [&](const BodyState& s) {
+    return axis.dot(s.angular_momentum - edge[0].cross(body.mass_kg * s.velocity));
+  };
+  const double before = about_edge(state);
+  ContactMemory memory;
+  ASSERT_TRUE(resolve_ground_contact(body, state, ground, &memory));
+  const Vec3 w = angular_velocity(body, state);
+  for (const Vec3& arm : edge)
+    EXPECT_LT((state.velocity + w.cross(arm)).norm(), 1e-12);
+  EXPECT_NEAR(about_edge(state), before, 1e-12);
+  // It turns about the edge only (measured 0.005 rad/s: its fall towards the edge, -0.05 m/s,
+  // takes most of the 0.5 rad/s away).
+  EXPECT_GT(w.norm(), 1e-3);
+  EXPECT_LT((w - axis.dot(w) * axis).norm(), 1e-12);
+  for (const auto& impulse : memory.impulses)
+    EXPECT_GE(impulse[0], 0.0);
+}
+
+TEST(GroundContact, TippingBodyIsNotHeldStill) {
+  // A box on its face turning about its -x edge (+x side rising): stopping it would take a pull
+  // at the rising corners, so the contact only pushes at the falling ones and it keeps turning.
+  const BodyModel body = box_model(2.0, Vec3(0.3, 0.2, 0.2));
+  const Ground ground{0.0, 0.8, 0.0};
+  BodyState state;
+  state.position = Vec3(0.0, 0.1, 0.0);
+  state.angular_momentum = body.inertia_body * Vec3(0.0, 0.0, 2.0);
+  state.velocity = Vec3(0.0, 0.3, 0.0);  // the centre rises as the box turns about its edge
+  ContactMemory memory;
+  ASSERT_TRUE(resolve_ground_contact(body, state, ground, &memory));
+  EXPECT_GT(angular_velocity(body, state).z(), 0.5);
+  for (const auto& impulse : memory.impulses)
+    EXPECT_GE(impulse[0], 0.0);
+}
+
+TEST(Drag, FacesBeyondTheInlineOnesCount) {
+  // Seven faces, more than a shape keeps inline: every one adds |n . d| A.
+  DragShape shape;
+  std::vector<std::pair<Vec3, double>> faces;
+  for (int i = 0; i < 7; ++i) {
+    const double a = 0.4 * i;
+    faces.emplace_back(Vec3(std::cos(a), 0.3 * i - 1.0, std::sin(a)).normalized(), 0.1 + 0.05 * i);
+  }
+  for (const auto& [normal, area] : faces)
+    shape.add_face(normal, area);
+  EXPECT_EQ(shape.face_count, 7u);
+  const Vec3 d = Vec3(0.3, -0.5, 0.8).normalized();
+  double expected = 0.0;
+  for (const auto& [normal, area] : faces)
+    expected += std::abs(normal.dot(d)) * area;
+  EXPECT_NEAR(shape.projected_area_m2(d), expected, 1e-15);
 }
 
 TEST(GroundContact, FarAboveTheGroundIsNotTouched) {

@@ -136,12 +136,13 @@ TEST(Simulator, ClearingRunsFromTheEdgesOfTheWholeSurface) {
   // Five 5 cm x 40 cm plates side by side form one 25 x 40 cm front surface (S = 12.5 cm),
   // which clears far slower than a lone plate whose own edges are 2.5 cm away (S = 2.5 cm). The
   // row keeps more of the reflected pulse, so its middle plate leaves faster than the lone one.
-  auto run = [](int count) {
+  // Plates 1 cm apart do not touch: each clears from its own edges, as a lone one does.
+  auto run = [](int count, double gap = 0.0) {
     scene::Scene s = testing::vacuum_scene();
     s.charges.push_back(tnt(10.0, Vector3d(0.0, 0.0, -8.0)));
     for (int i = 0; i < count; ++i) {
       scene::ObjectSpec plate = box_object("p" + std::to_string(i), Vector3d(0.05, 0.4, 0.01),
-                                           Vector3d(0.05 * (i - count / 2), 0.0, 0.0), 0.5);
+                                           Vector3d((0.05 + gap) * (i - count / 2), 0.0, 0.0), 0.5);
       plate.friction = 0.0;
       s.objects.push_back(plate);
     }
@@ -153,6 +154,7 @@ TEST(Simulator, ClearingRunsFromTheEdgesOfTheWholeSurface) {
   const double in_row = run(5);
   EXPECT_GT(alone, 0.0);
   EXPECT_GT(in_row, 1.2 * alone);
+  EXPECT_EQ(run(5, 0.01), alone);
 }
 
 TEST(Simulator, BlownBrickFliesFallsAndSleeps) {

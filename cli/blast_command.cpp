@@ -11,6 +11,7 @@
 #include "sim/blast/blast_point.hpp"
 #include "sim/blast/explosives.hpp"
 #include "sim/blast/reflection.hpp"
+#include "sim/io/blast_json.hpp"
 
 namespace brisance::cli {
 
@@ -102,25 +103,6 @@ BlastRequest parse(const ParsedFlags& flags) {
   return request;
 }
 
-// The fields of DESIGN.md "The blast calculator's JSON fields", in engineering units.
-nlohmann::ordered_json to_json(const blast::BlastPoint& point,
-                               const blast::ObliqueReflection& reflection) {
-  nlohmann::ordered_json out;
-  out["scaled_distance_m_kg13"] = point.scaled_distance_m_kg13;
-  out["tnt_equivalent_kg"] = point.tnt_equivalent_kg;
-  out["incident_overpressure_kpa"] = point.incident_overpressure_pa * 1e-3;
-  out["incident_impulse_kpa_ms"] = point.incident_impulse_pa_s;  // Pa*s == kPa*ms
-  out["arrival_time_ms"] = point.arrival_time_s * 1e3;
-  out["positive_duration_ms"] = point.positive_duration_s * 1e3;
-  out["reflected_overpressure_kpa"] = reflection.overpressure_pa * 1e-3;
-  out["reflected_impulse_kpa_ms"] = reflection.impulse_pa_s;
-  out["shock_velocity_m_s"] = point.shock_velocity_m_s;
-  out["dynamic_pressure_kpa"] = point.dynamic_pressure_pa * 1e-3;
-  out["reflection_coefficient"] = reflection.coefficient;
-  out["in_validity_range"] = point.in_validity_range && reflection.in_chart_range;
-  return out;
-}
-
 void print_table(std::ostream& out, const BlastRequest& request, const blast::BlastPoint& point,
                  const blast::ObliqueReflection& reflection) {
   const bool surface = request.charge.burst == blast::Burst::surface;
@@ -181,11 +163,10 @@ int run_blast(const Args& args, std::ostream& out) {
   }
   const BlastRequest request = parse(flags);
   const blast::BlastPoint point = blast::blast_point(request.charge, request.distance_m);
-  const blast::ObliqueReflection reflection = blast::oblique_reflection(
-      point.incident_overpressure_pa, point.incident_impulse_pa_s, point.reflected_overpressure_pa,
-      point.reflected_impulse_pa_s, request.angle_deg * std::numbers::pi / 180.0);
+  const blast::ObliqueReflection reflection =
+      io::reflect(point, request.angle_deg * std::numbers::pi / 180.0);
   if (request.json) {
-    out << to_json(point, reflection).dump(2) << "\n";
+    out << io::blast_report_json(point, reflection).dump(2) << "\n";
   } else {
     print_table(out, request, point, reflection);
   }

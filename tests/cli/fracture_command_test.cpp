@@ -1,0 +1,137 @@
+// Tests of `brisance fracture` in-process: the JSON and SVG outputs and the input errors.
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+#include <unistd.h>
+
+#include "cli/commands.hpp"
+
+namespace brisance::cli {
+namespace {
+
+std::string temp_path(const std::string& name) {
+  return (std::filesystem::temp_directory_path() /
+          ("brisance_fracture_" + std::to_string(::getpid()) + "_" + name))
+      .string();
+}
+
+std::string read(const std::string& path) {
+  std::ifstream in(path);
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+std::string usage_error(const Args& args) {
+  std::ostringstream out;
+  try {
+    run_fracture(args, out);
+  } catch (const UsageError& error) {
+    return error.message;
+  }
+  ADD_FAILURE() << "no usage error";
+  return {};
+}
+
+TEST(FractureCommand, JsonListsFragmentsThatTileThePane) {
+  const std::string path = temp_path("pattern.json");
+  std::ostringstream out;
+  ASSERT_EQ(
+      run_fracture({"--width", "1.2", "--height", "0.8", "--grid", "256", "--growth-length", "0.05",
+                    "--wiggle-prob", "0.3", "--wiggle-deg", "20", "--seed", "7", "-o", path},
+                   out),
+      kExitOk);
+  const auto json = nlohmann::json::parse(read(path));
+  EXPECT_DOUBLE_EQ(json["width"].get<double>(), 1.2);
+  EXPECT_DOUBLE_EQ(json["height"].get<double>(), 0.8);
+  EXPECT_EQ(json["seed"].get<int>(), 7);
+  ASSERT_GT(json["fragments"].size(), 3u);
+  double area = 0.0;
+  for (const auto& f : json["fragments"]) {
+    ASSERT_GE(f["polygon"].size(), 3u);
+    for (const auto& v : f["polygon"]) {
+      EXPECT_GE(v[0].get<double>(), 0.0);
+      EXPECT_LE(v[0].get<double>(), 1.2);
+      EXPECT_LE(v[1].get<double>(), 0.8);
+    }
+    area += f["area"].get<double>();
+  }
+  EXPECT_NEAR(area, 1.2 * 0.8, 1e-9);
+  EXPECT_NE(out.str().find("fragments written to"), std::string::npos);
+  // Same seed, same file.
+  const std::string again = temp_path("again.json");
+  std::ostringstream ignored;
+  run_fracture({"--width", "1.2", "--height", "0.8", "--grid", "256", "--growth-length", "0.05",
+                "--wiggle-prob", "0.3", "--wiggle-deg", "20", "--seed", "7", "-o", again},
+               ignored);
+  EXPECT_EQ(read(path), read(again));
+  std::filesystem::remove(path);
+  std::filesystem::remove(again);
+}
+
+TEST(FractureCommand, SvgHasOnePolygonPerFragment) {
+  const std::string svg_path = temp_path("pattern.svg");
+  const std::string json_path = temp_path("pattern2.json");
+  std::ostringstream out;
+  const Args common = {"--width", "1",   "--height",           "1",
+                       "--grid",  "256", "--branch-angle-deg", "30"};
+  Args svg_args = common;
+  svg_args.insert(svg_args.end(), {"-o", svg_path});
+  Args json_args = common;
+  json_args.insert(json_args.end(), {"-o", json_path});
+  ASSERT_EQ(run_fracture(svg_args, out), kExitOk);
+  ASSERT_EQ(run_fracture(json_args, out), kExitOk);
+  const std::string svg = read(svg_path);
+  EXPECT_EQ(svg.rfind("<svg", 0), 0u);
+  std::size_t polygons = 0;
+  for (std::size_t at = svg.find("<polygon"); at != std::string::npos;
+       at = svg.find("<polygon", at + 1))
+    ++polygons;
+  EXPECT_EQ(polygons, nlohmann::json::parse(read(json_path))["fragments"].size());
+  EXPECT_NE(svg.find("stroke="), std::string::npos);
+  std::filesystem::remove(svg_path);
+  std::filesystem::remove(json_path);
+}
+
+TEST(FractureCommand, BadInputIsOneClearMessage) {
+  const std::string out = temp_path("x.svg");
+  EXPECT_NE(usage_error({"--height", "1", "-o", out}).find("--width is required"),
+            std::string::npos);
+  EXPECT_NE(usage_error({"--width", "1", "--height", "1"}).find("-o pattern.svg"),
+            std::string::npos);
+  EXPECT_NE(usage_error({"--width", "1", "--height", "1", "-o", "a.png"}).find(".svg or .json"),
+            std::string::npos);
+  EXPECT_NE(usage_error({"--width", "-1", "--height", "1", "-o", out}).find("greater than 0"),
+            std::string::npos);
+  EXPECT_NE(usage_error({"--width", "1", "--height", "1", "--grid", "3.5", "-o", out})
+                .find("whole number"),
+            std::string::npos);
+  EXPECT_NE(usage_error({"--width", "1", "--height", "1", "--seed", "-3", "-o", out})
+                .find("non-negative integer"),
+            std::string::npos);
+  EXPECT_NE(usage_error({"--width", "1", "--height", "1", "--wiggle-prob", "2", "-o", out})
+                .find("wiggle probability must be between 0 and 1"),
+            std::string::npos);
+  EXPECT_NE(usage_error({"--width", "1", "--height", "1", "--grid", "64", "--growth-length",
+                         "0.001", "-o", out})
+                .find("refine the grid"),
+            std::string::npos);
+  EXPECT_NE(usage_error({"--width", "1", "--height", "1", "--branch-angle-deg", "abc", "-o", out})
+                .find("must be a number"),
+            std::string::npos);
+  EXPECT_NE(usage_error({"--width", "1", "--height", "1", "-o", "/nonexistent/dir/p.svg"})
+                .find("cannot write"),
+            std::string::npos);
+  EXPECT_EQ(usage_error({"--width", "0", "--height", "1", "-o", out}).find('\n'),
+            std::string::npos);
+  std::ostringstream help;
+  EXPECT_EQ(run_fracture({"--help"}, help), kExitOk);
+  EXPECT_NE(help.str().find("--growth-length"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace brisance::cli

@@ -38,6 +38,7 @@ gltf-validator:
 	  DEBIAN_FRONTEND=noninteractive $$sudo apt-get install -y -qq --no-install-recommends nodejs npm; \
 	fi
 	npm ci --prefix tests/gltf --no-audit --no-fund --loglevel=error
+	npm ci --prefix tests/contract --no-audit --no-fund --loglevel=error
 
 $(BUILD_DIR)/release/CMakeCache.txt: | deps
 	cmake -S . -B $(BUILD_DIR)/release $(GENERATOR) -DCMAKE_BUILD_TYPE=Release

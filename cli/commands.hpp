@@ -51,7 +51,10 @@ class ParsedFlags {
 };
 
 int run_blast(const Args& args, std::ostream& out);
+int run_fracture(const Args& args, std::ostream& out);
 int run_simulation(const Args& args, std::ostream& out);
 int run_validate(const Args& args, std::ostream& out);
+int run_serve(const Args& args, std::ostream& out);
+int run_api_key(const Args& args, std::ostream& out);
 
 }  // namespace brisance::cli

@@ -13,9 +13,12 @@ constexpr std::string_view kUsage =
     "usage: brisance <command> [options]\n"
     "\n"
     "commands:\n"
+    "  serve     run the job service: HTTP API, queue and workers (brisance serve --help)\n"
+    "  api-key   make an API key for 'serve --api-keys'\n"
     "  run       simulate a scene: brisance run SCENE.json -o OUT.glb|OUT.json\n"
     "  validate  check a scene file and list every problem\n"
     "  blast     blast-wave parameters of a charge at a distance (Kingery-Bulmash)\n"
+    "  fracture  grow a crack pattern on a pane: brisance fracture --width W --height H -o F.svg\n"
     "  version   print the version\n"
     "  help      print this help\n"
     "\n"
@@ -33,8 +36,11 @@ int main(int argc, char** argv) {
   const brisance::cli::Args args(all.begin() + 2, all.end());
   try {
     if (command == "blast") return brisance::cli::run_blast(args, std::cout);
+    if (command == "fracture") return brisance::cli::run_fracture(args, std::cout);
     if (command == "run") return brisance::cli::run_simulation(args, std::cout);
     if (command == "validate") return brisance::cli::run_validate(args, std::cout);
+    if (command == "serve") return brisance::cli::run_serve(args, std::cout);
+    if (command == "api-key") return brisance::cli::run_api_key(args, std::cout);
     if (command == "version" || command == "--version") {
       std::cout << "brisance " << BRISANCE_VERSION << "\n";
       return brisance::cli::kExitOk;

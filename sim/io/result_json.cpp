@@ -59,18 +59,6 @@ json frame_to_json(const engine::Result& result, std::size_t frame) {
   return json{{"time", result.frame_times_s[frame]}, {"bodies", std::move(bodies)}};
 }
 
-json final_state_to_json(const engine::FinalState& state) {
-  return json{{"name", state.name},
-              {"position", vec3_to_json(state.pose.position)},
-              {"orientation", quat_to_json(state.pose.orientation)},
-              {"linear_velocity", vec3_to_json(state.linear_velocity_m_s)},
-              {"angular_velocity", vec3_to_json(state.angular_velocity_rad_s)}};
-}
-
-json warning_to_json(const engine::Warning& warning) {
-  return json{{"code", warning.code}, {"message", warning.message}, {"count", warning.count}};
-}
-
 // animated_flags[i] is true when body i is in result.animated: one pass, not a search per body.
 std::vector<bool> animated_flags(const engine::Result& result) {
   std::vector<bool> flags(result.bodies.size(), false);
@@ -135,6 +123,18 @@ void write_frame(std::ostream& out, const engine::Result& result, std::size_t fr
 }
 
 }  // namespace
+
+json final_state_to_json(const engine::FinalState& state) {
+  return json{{"name", state.name},
+              {"position", vec3_to_json(state.pose.position)},
+              {"orientation", quat_to_json(state.pose.orientation)},
+              {"linear_velocity", vec3_to_json(state.linear_velocity_m_s)},
+              {"angular_velocity", vec3_to_json(state.angular_velocity_rad_s)}};
+}
+
+json warning_to_json(const engine::Warning& warning) {
+  return json{{"code", warning.code}, {"message", warning.message}, {"count", warning.count}};
+}
 
 json stats_to_json(const engine::Stats& stats) {
   // Binding every member by name makes a field added to Stats a compile error here until it is

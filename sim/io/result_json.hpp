@@ -22,6 +22,8 @@ namespace brisance::io {
 
 nlohmann::json result_to_json(const engine::Result& result);
 nlohmann::json stats_to_json(const engine::Stats& stats);
+nlohmann::json final_state_to_json(const engine::FinalState& state);
+nlohmann::json warning_to_json(const engine::Warning& warning);
 void write_result_json(const engine::Result& result, std::ostream& out);
 
 }  // namespace brisance::io

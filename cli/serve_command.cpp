@@ -1,0 +1,264 @@
+// `brisance serve`: the job service — HTTP API, durable queue and worker pool on one SQLite file.
+// `brisance api-key`: makes a key for --api-keys.
+#include <cmath>
+#include <cstdlib>
+#include <iostream>
+#include <ostream>
+#include <string>
+#include <thread>
+
+#include <nlohmann/json.hpp>
+#include <pthread.h>
+#include <signal.h>
+
+#include "cli/commands.hpp"
+#include "cli/text.hpp"
+#include "server/api.hpp"
+#include "server/api_keys.hpp"
+#include "server/http_server.hpp"
+#include "server/job_service.hpp"
+#include "server/log.hpp"
+#include "server/metrics.hpp"
+#include "server/sqlite_storage.hpp"
+#include "server/worker_pool.hpp"
+
+namespace brisance::cli {
+namespace {
+
+constexpr std::string_view kHelp =
+    "usage: brisance serve [--bind ADDR] [--port N] [--data DIR] [--workers N] [--max-queue N]\n"
+    "                      [--api-keys FILE] [options]\n"
+    "\n"
+    "Runs the job service: the HTTP/JSON API under /v1, the durable job queue and the simulation\n"
+    "workers, on an SQLite store in DIR. Every flag can also be set by the environment variable\n"
+    "in brackets; a flag wins over the variable.\n"
+    "  --bind ADDR          address to listen on (default 127.0.0.1)         [BRISANCE_BIND]\n"
+    "  --port N             TCP port, 0 for any free one (default 8080)       [BRISANCE_PORT]\n"
+    "  --data DIR           where the database lives (default ./data)        [BRISANCE_DATA]\n"
+    "  --workers N          simulation threads (default: cores, at least 1)  [BRISANCE_WORKERS]\n"
+    "  --max-queue N        queued jobs above which POST gets 429 (10000)     "
+    "[BRISANCE_MAX_QUEUE]\n"
+    "  --api-keys FILE      require API keys listed (hashed) in FILE          [BRISANCE_API_KEYS]\n"
+    "  --io-threads N       HTTP I/O threads (default 2)                      "
+    "[BRISANCE_IO_THREADS]\n"
+    "  --body-limit-mb M    largest request body, MiB (default 16)          "
+    "[BRISANCE_BODY_LIMIT_MB]\n"
+    "  --job-timeout-s S    wall-clock limit per job run, 0 none (600)      "
+    "[BRISANCE_JOB_TIMEOUT_S]\n"
+    "  --max-attempts N     runs a job may crash before it fails (3)        "
+    "[BRISANCE_MAX_ATTEMPTS]\n"
+    "  --retention-h H      keep finished jobs H hours, 0 forever (168)      "
+    "[BRISANCE_RETENTION_H]\n"
+    "  --sync normal|full   SQLite synchronous: full fsyncs every commit     [BRISANCE_SYNC]\n"
+    "                       (survives power loss), normal (default) survives\n"
+    "                       any process crash\n"
+    "  --grace-s S          on SIGTERM, time running jobs get to finish (10)  [BRISANCE_GRACE_S]\n"
+    "  --log-level L        debug, info (default), warn or error             "
+    "[BRISANCE_LOG_LEVEL]\n";
+
+constexpr std::string_view kKeyHelp =
+    "usage: brisance api-key [--name NAME] [--scope read|write]\n"
+    "\n"
+    "Prints a new random API key and the line to add to the --api-keys file (which stores only\n"
+    "its SHA-256 hash). Give clients the key; keep the file on the server.\n";
+
+// A flag's value, else the environment variable's, else nothing.
+std::optional<std::string> setting(const ParsedFlags& flags, std::string_view flag,
+                                   const char* variable) {
+  if (auto value = flags.value(flag)) return std::string(*value);
+  if (const char* env = std::getenv(variable); env && *env) return std::string(env);
+  return std::nullopt;
+}
+
+long long integer_setting(const ParsedFlags& flags, std::string_view flag, const char* variable,
+                          long long fallback, long long lo, long long hi) {
+  const auto text = setting(flags, flag, variable);
+  if (!text) return fallback;
+  char* end = nullptr;
+  const long long value = std::strtoll(text->c_str(), &end, 10);
+  if (end == text->c_str() || *end != '\0' || value < lo || value > hi) {
+    flags.fail(text::printf("--%.*s (or %s) must be an integer from %lld to %lld, got '%s'",
+                            static_cast<int>(flag.size()), flag.data(), variable, lo, hi,
+                            text->c_str()));
+  }
+  return value;
+}
+
+double number_setting(const ParsedFlags& flags, std::string_view flag, const char* variable,
+                      double fallback, double lo, double hi) {
+  const auto text = setting(flags, flag, variable);
+  if (!text) return fallback;
+  char* end = nullptr;
+  const double value = std::strtod(text->c_str(), &end);
+  if (end == text->c_str() || *end != '\0' || !std::isfinite(value) || value < lo || value > hi) {
+    flags.fail(text::printf("--%.*s (or %s) must be a number from %g to %g, got '%s'",
+                            static_cast<int>(flag.size()), flag.data(), variable, lo, hi,
+                            text->c_str()));
+  }
+  return value;
+}
+
+}  // namespace
+
+int run_serve(const Args& args, std::ostream& out) {
+  const ParsedFlags flags("serve", args,
+                          {{"bind"},
+                           {"port"},
+                           {"data"},
+                           {"workers"},
+                           {"max-queue"},
+                           {"api-keys"},
+                           {"io-threads"},
+                           {"body-limit-mb"},
+                           {"job-timeout-s"},
+                           {"max-attempts"},
+                           {"retention-h"},
+                           {"sync"},
+                           {"grace-s"},
+                           {"log-level"},
+                           {"help", false, "h"}});
+  if (flags.has("help")) {
+    out << kHelp;
+    return kExitOk;
+  }
+  if (!flags.positional().empty()) {
+    flags.fail("unexpected argument '" + std::string(flags.positional().front()) + "'");
+  }
+  using namespace server;
+
+  HttpOptions http;
+  http.bind = setting(flags, "bind", "BRISANCE_BIND").value_or("127.0.0.1");
+  http.port =
+      static_cast<std::uint16_t>(integer_setting(flags, "port", "BRISANCE_PORT", 8080, 0, 65535));
+  http.io_threads =
+      static_cast<int>(integer_setting(flags, "io-threads", "BRISANCE_IO_THREADS", 2, 1, 64));
+  http.body_limit_bytes = static_cast<std::size_t>(
+      number_setting(flags, "body-limit-mb", "BRISANCE_BODY_LIMIT_MB", 16, 0.001, 4096) * 1024 *
+      1024);
+
+  SqliteOptions store;
+  store.file = std::filesystem::path(setting(flags, "data", "BRISANCE_DATA").value_or("data")) /
+               "brisance.sqlite3";
+  const std::string sync = setting(flags, "sync", "BRISANCE_SYNC").value_or("normal");
+  if (sync == "full") {
+    store.synchronous = Synchronous::full;
+  } else if (sync != "normal") {
+    flags.fail("--sync must be 'normal' or 'full', got '" + sync + "'");
+  }
+
+  ServiceOptions service_options;
+  service_options.max_queue =
+      integer_setting(flags, "max-queue", "BRISANCE_MAX_QUEUE", 10000, 1, 100000000);
+  service_options.max_attempts =
+      static_cast<int>(integer_setting(flags, "max-attempts", "BRISANCE_MAX_ATTEMPTS", 3, 1, 100));
+
+  WorkerOptions workers;
+  const long long cores = std::max(1u, std::thread::hardware_concurrency());
+  workers.workers =
+      static_cast<int>(integer_setting(flags, "workers", "BRISANCE_WORKERS", cores, 1, 256));
+  workers.job_timeout_s =
+      number_setting(flags, "job-timeout-s", "BRISANCE_JOB_TIMEOUT_S", 600, 0, 1e7);
+  workers.retention = std::chrono::hours(
+      integer_setting(flags, "retention-h", "BRISANCE_RETENTION_H", 168, 0, 1000000));
+  const double grace_s = number_setting(flags, "grace-s", "BRISANCE_GRACE_S", 10, 0, 3600);
+
+  const std::string level = setting(flags, "log-level", "BRISANCE_LOG_LEVEL").value_or("info");
+  if (level == "debug") {
+    set_log_level(LogLevel::debug);
+  } else if (level == "info") {
+    set_log_level(LogLevel::info);
+  } else if (level == "warn") {
+    set_log_level(LogLevel::warn);
+  } else if (level == "error") {
+    set_log_level(LogLevel::error);
+  } else {
+    flags.fail("--log-level must be debug, info, warn or error, got '" + level + "'");
+  }
+
+  ApiKeys keys;
+  if (auto file = setting(flags, "api-keys", "BRISANCE_API_KEYS")) {
+    try {
+      keys = ApiKeys::load(*file);
+    } catch (const std::runtime_error& error) {
+      flags.fail(error.what());
+    }
+    if (!keys.enabled()) flags.fail("the API keys file " + *file + " lists no key");
+  }
+
+  // SIGINT and SIGTERM are taken by sigwait below, in this thread only: block them before any
+  // thread starts so every thread inherits the mask.
+  sigset_t stop_signals;
+  sigemptyset(&stop_signals);
+  sigaddset(&stop_signals, SIGINT);
+  sigaddset(&stop_signals, SIGTERM);
+  pthread_sigmask(SIG_BLOCK, &stop_signals, nullptr);
+
+  std::unique_ptr<Storage> storage;
+  try {
+    storage = open_sqlite_storage(store);
+  } catch (const StorageError& error) {
+    std::cerr << "brisance serve: " << error.what() << "\n";
+    return kExitInternal;
+  }
+  JobService service(*storage, service_options);
+  Metrics metrics;
+  WorkerPool pool(service, metrics, workers);
+  ApiOptions api_options;
+  api_options.body_limit_bytes = http.body_limit_bytes;
+  Api api(
+      service, metrics, keys,
+      [&pool] {
+        return WorkerGauges{pool.busy(), pool.size()};
+      },
+      api_options);
+  HttpServer server(api, service, metrics, http);
+  try {
+    server.listen();
+  } catch (const std::runtime_error& error) {
+    std::cerr << "brisance serve: " << error.what() << "\n";
+    return kExitInternal;
+  }
+  pool.start();
+  server.start();
+  log_event(LogLevel::info, "listening",
+            {{"url", "http://" + http.bind + ":" + std::to_string(server.port())},
+             {"port", server.port()},
+             {"database", store.file.string()},
+             {"workers", workers.workers},
+             {"api_keys", keys.size()},
+             {"synchronous", sync}});
+
+  int signal_number = 0;
+  sigwait(&stop_signals, &signal_number);
+  log_event(LogLevel::info, "shutting down",
+            {{"signal", signal_number == SIGTERM ? "SIGTERM" : "SIGINT"}, {"grace_s", grace_s}});
+  server.stop(std::chrono::seconds(10));
+  pool.stop(std::chrono::milliseconds(static_cast<long long>(grace_s * 1000)));
+  log_event(LogLevel::info, "stopped");
+  return kExitOk;
+}
+
+int run_api_key(const Args& args, std::ostream& out) {
+  const ParsedFlags flags("api-key", args, {{"name"}, {"scope"}, {"help", false, "h"}});
+  if (flags.has("help")) {
+    out << kKeyHelp;
+    return kExitOk;
+  }
+  const std::string name(flags.value("name").value_or("default"));
+  if (name.empty() || name.find_first_of(" \t\n#") != std::string::npos) {
+    flags.fail("--name must be one word without spaces or '#'");
+  }
+  const std::string_view scope = flags.value("scope").value_or("write");
+  if (scope != "read" && scope != "write") {
+    flags.fail("--scope must be 'read' or 'write', got '" + std::string(scope) + "'");
+  }
+  const std::string key = server::generate_api_key();
+  out << "key:  " << key << "\n"
+      << "line: "
+      << server::api_key_line(name, scope == "write" ? server::Scope::write : server::Scope::read,
+                              key)
+      << "\n";
+  return kExitOk;
+}
+
+}  // namespace brisance::cli

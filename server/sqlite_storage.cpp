@@ -1,0 +1,739 @@
+#include "server/sqlite_storage.hpp"
+
+#include <algorithm>
+#include <cstring>
+#include <mutex>
+#include <span>
+#include <unordered_map>
+#include <utility>
+
+#include <sqlite3.h>
+
+#include "server/embedded.hpp"
+
+namespace brisance::server {
+
+std::string_view to_string(JobStatus status) {
+  switch (status) {
+    case JobStatus::queued:
+      return "queued";
+    case JobStatus::running:
+      return "running";
+    case JobStatus::succeeded:
+      return "succeeded";
+    case JobStatus::failed:
+      return "failed";
+    case JobStatus::cancelled:
+      return "cancelled";
+  }
+  return "queued";
+}
+
+std::optional<JobStatus> parse_job_status(std::string_view text) {
+  for (JobStatus s : {JobStatus::queued, JobStatus::running, JobStatus::succeeded,
+                      JobStatus::failed, JobStatus::cancelled}) {
+    if (to_string(s) == text) return s;
+  }
+  return std::nullopt;
+}
+
+namespace {
+
+// One prepared statement, reset on scope exit so the connection can be reused.
+class Statement {
+ public:
+  explicit Statement(sqlite3_stmt* stmt) : stmt_(stmt) {}
+  Statement(const Statement&) = delete;
+  Statement& operator=(const Statement&) = delete;
+  ~Statement() {
+    sqlite3_reset(stmt_);
+    sqlite3_clear_bindings(stmt_);
+  }
+
+  Statement& bind(int i, std::int64_t v) {
+    check(sqlite3_bind_int64(stmt_, i, v));
+    return *this;
+  }
+  Statement& bind(int i, int v) { return bind(i, static_cast<std::int64_t>(v)); }
+  Statement& bind(int i, double v) {
+    check(sqlite3_bind_double(stmt_, i, v));
+    return *this;
+  }
+  Statement& bind(int i, std::string_view v) {
+    check(sqlite3_bind_text(stmt_, i, v.data(), static_cast<int>(v.size()), SQLITE_TRANSIENT));
+    return *this;
+  }
+  Statement& bind_null(int i) {
+    check(sqlite3_bind_null(stmt_, i));
+    return *this;
+  }
+  template <typename T>
+  Statement& bind_blob(int i, std::span<const T> v) {
+    // A zero-length blob must still be a blob, not NULL.
+    static const char kEmpty = 0;
+    const void* data = v.empty() ? static_cast<const void*>(&kEmpty) : v.data();
+    check(sqlite3_bind_blob(stmt_, i, data, static_cast<int>(v.size_bytes()), SQLITE_TRANSIENT));
+    return *this;
+  }
+
+  // True while there is a row.
+  bool step() {
+    const int rc = sqlite3_step(stmt_);
+    if (rc == SQLITE_ROW) return true;
+    if (rc == SQLITE_DONE) return false;
+    fail(rc);
+  }
+  void run() {
+    while (step()) {
+    }
+  }
+  // Ready to bind and run again.
+  void reset() {
+    sqlite3_reset(stmt_);
+    sqlite3_clear_bindings(stmt_);
+  }
+
+  bool is_null(int c) const { return sqlite3_column_type(stmt_, c) == SQLITE_NULL; }
+  std::int64_t int64(int c) const { return sqlite3_column_int64(stmt_, c); }
+  double real(int c) const { return sqlite3_column_double(stmt_, c); }
+  std::string text(int c) const {
+    const auto* p = sqlite3_column_text(stmt_, c);
+    return p ? std::string(reinterpret_cast<const char*>(p),
+                           static_cast<std::size_t>(sqlite3_column_bytes(stmt_, c)))
+             : std::string();
+  }
+  template <typename T>
+  std::vector<T> blob(int c) const {
+    const void* p = sqlite3_column_blob(stmt_, c);
+    const auto bytes = static_cast<std::size_t>(sqlite3_column_bytes(stmt_, c));
+    std::vector<T> out(bytes / sizeof(T));
+    if (p && !out.empty()) std::memcpy(out.data(), p, out.size() * sizeof(T));
+    return out;
+  }
+
+ private:
+  void check(int rc) const {
+    if (rc != SQLITE_OK) fail(rc);
+  }
+  [[noreturn]] void fail(int rc) const {
+    throw StorageError(std::string("sqlite: ") + sqlite3_errstr(rc) + ": " +
+                       sqlite3_errmsg(sqlite3_db_handle(stmt_)));
+  }
+  sqlite3_stmt* stmt_;
+};
+
+class Connection {
+ public:
+  Connection(const std::filesystem::path& file, const SqliteOptions& options) {
+    const int rc =
+        sqlite3_open_v2(file.c_str(), &db_,
+                        SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE | SQLITE_OPEN_NOMUTEX, nullptr);
+    if (rc != SQLITE_OK) {
+      std::string message = "cannot open database " + file.string() + ": " +
+                            (db_ ? sqlite3_errmsg(db_) : sqlite3_errstr(rc));
+      sqlite3_close(db_);
+      throw StorageError(message);
+    }
+    sqlite3_busy_timeout(db_, options.busy_timeout_ms);
+    exec("PRAGMA journal_mode = WAL");
+    exec(options.synchronous == Synchronous::full ? "PRAGMA synchronous = FULL"
+                                                  : "PRAGMA synchronous = NORMAL");
+    exec("PRAGMA foreign_keys = ON");
+  }
+  Connection(const Connection&) = delete;
+  Connection& operator=(const Connection&) = delete;
+  ~Connection() {
+    for (auto& [sql, stmt] : cache_)
+      sqlite3_finalize(stmt);
+    sqlite3_close(db_);
+  }
+
+  void exec(const char* sql) {
+    char* error = nullptr;
+    if (sqlite3_exec(db_, sql, nullptr, nullptr, &error) != SQLITE_OK) {
+      std::string message = std::string("sqlite: ") + (error ? error : "error") + " in: " + sql;
+      sqlite3_free(error);
+      throw StorageError(message);
+    }
+  }
+
+  // Prepared once per connection; the SQL text's address is the cache key.
+  Statement prepare(const char* sql) {
+    auto it = cache_.find(sql);
+    if (it == cache_.end()) {
+      sqlite3_stmt* stmt = nullptr;
+      if (sqlite3_prepare_v3(db_, sql, -1, SQLITE_PREPARE_PERSISTENT, &stmt, nullptr) !=
+          SQLITE_OK) {
+        throw StorageError(std::string("sqlite: ") + sqlite3_errmsg(db_) + " in: " + sql);
+      }
+      it = cache_.emplace(sql, stmt).first;
+    }
+    return Statement(it->second);
+  }
+
+  int changes() const { return sqlite3_changes(db_); }
+
+ private:
+  sqlite3* db_ = nullptr;
+  std::unordered_map<const char*, sqlite3_stmt*> cache_;
+};
+
+// A transaction that rolls back unless committed.
+class Transaction {
+ public:
+  Transaction(Connection& c, bool immediate) : c_(c) {
+    c_.exec(immediate ? "BEGIN IMMEDIATE" : "BEGIN");
+  }
+  Transaction(const Transaction&) = delete;
+  Transaction& operator=(const Transaction&) = delete;
+  ~Transaction() {
+    if (!done_) {
+      try {
+        c_.exec("ROLLBACK");
+      } catch (const StorageError&) {  // nothing more to do: the connection is reset on reuse
+      }
+    }
+  }
+  void commit() {
+    c_.exec("COMMIT");
+    done_ = true;
+  }
+
+ private:
+  Connection& c_;
+  bool done_ = false;
+};
+
+JobRecord read_job(const Statement& s) {
+  JobRecord j;
+  j.id = s.text(0);
+  j.seq = s.int64(1);
+  j.status = parse_job_status(s.text(2)).value_or(JobStatus::queued);
+  j.priority = static_cast<int>(s.int64(3));
+  j.progress = s.real(4);
+  j.version = s.int64(5);
+  j.attempts = static_cast<int>(s.int64(6));
+  j.cancel_requested = s.int64(7) != 0;
+  j.created_ms = s.int64(8);
+  j.updated_ms = s.int64(9);
+  if (!s.is_null(10)) j.started_ms = s.int64(10);
+  if (!s.is_null(11)) j.finished_ms = s.int64(11);
+  j.error_type = s.text(12);
+  j.error = s.text(13);
+  j.stats_json = s.text(14);
+  return j;
+}
+
+#define JOB_COLUMNS                                                                        \
+  "id, seq, status, priority, progress, version, attempts, cancel_requested, created_ms, " \
+  "updated_ms, started_ms, finished_ms, error_type, error, stats"
+
+class SqliteStorage final : public Storage {
+ public:
+  explicit SqliteStorage(SqliteOptions options) : options_(std::move(options)) {
+    std::error_code ec;
+    if (options_.file.has_parent_path()) {
+      std::filesystem::create_directories(options_.file.parent_path(), ec);
+      if (ec) {
+        throw StorageError("cannot create directory " + options_.file.parent_path().string() +
+                           ": " + ec.message());
+      }
+    }
+    auto lease = acquire();
+    migrate(*lease);
+  }
+
+  CreateResult create_job(const NewJob& job) override {
+    auto c = acquire();
+    std::lock_guard write(write_mutex_);
+    Transaction tx(*c, true);
+    if (!job.idempotency_key.empty()) {
+      auto s =
+          c->prepare("SELECT " JOB_COLUMNS ", request_hash FROM jobs WHERE idempotency_key = ?");
+      s.bind(1, job.idempotency_key);
+      if (s.step()) {
+        CreateResult existing{CreateOutcome::existing, read_job(s)};
+        if (s.text(15) != job.request_hash) existing.outcome = CreateOutcome::key_conflict;
+        return existing;
+      }
+    }
+    if (!job.create_if_missing) return {CreateOutcome::not_created, {}};
+    {
+      auto s = c->prepare(
+          "INSERT INTO jobs (id, status, priority, scene, created_ms, updated_ms, "
+          "idempotency_key, request_hash) VALUES (?, 'queued', ?, ?, ?, ?, ?, ?)");
+      s.bind(1, job.id).bind(2, job.priority).bind(3, job.scene_json);
+      s.bind(4, job.now_ms).bind(5, job.now_ms);
+      if (job.idempotency_key.empty()) {
+        s.bind_null(6).bind_null(7);
+      } else {
+        s.bind(6, job.idempotency_key).bind(7, job.request_hash);
+      }
+      s.run();
+    }
+    auto created = read_by_id(*c, job.id);
+    tx.commit();
+    return {CreateOutcome::created, std::move(*created)};
+  }
+
+  std::optional<JobRecord> get_job(std::string_view id) override {
+    auto c = acquire();
+    return read_by_id(*c, id);
+  }
+
+  JobPage list_jobs(std::optional<JobStatus> status, std::int64_t before_seq, int limit) override {
+    auto c = acquire();
+    const std::int64_t before = before_seq > 0 ? before_seq : INT64_MAX;
+    JobPage page;
+    auto read_rows = [&](Statement& s) {
+      while (s.step())
+        page.jobs.push_back(read_job(s));
+    };
+    if (status) {
+      auto s = c->prepare("SELECT " JOB_COLUMNS
+                          " FROM jobs WHERE status = ? AND seq < ? ORDER BY seq DESC LIMIT ?");
+      s.bind(1, to_string(*status)).bind(2, before).bind(3, limit + 1);
+      read_rows(s);
+    } else {
+      auto s =
+          c->prepare("SELECT " JOB_COLUMNS " FROM jobs WHERE seq < ? ORDER BY seq DESC LIMIT ?");
+      s.bind(1, before).bind(2, limit + 1);
+      read_rows(s);
+    }
+    if (static_cast<int>(page.jobs.size()) > limit) {
+      page.jobs.pop_back();
+      page.cursor = page.jobs.back().seq;
+    }
+    return page;
+  }
+
+  std::int64_t count_queued() override {
+    auto c = acquire();
+    auto s = c->prepare("SELECT count(*) FROM jobs WHERE status = 'queued'");
+    s.step();
+    return s.int64(0);
+  }
+
+  QueueCounts queue_counts(std::int64_t now_ms) override {
+    auto c = acquire();
+    QueueCounts counts;
+    Transaction tx(*c, false);
+    {
+      auto s = c->prepare("SELECT status, count(*) FROM jobs GROUP BY status");
+      while (s.step()) {
+        if (auto status = parse_job_status(s.text(0))) {
+          counts.by_status[static_cast<std::size_t>(*status)] = s.int64(1);
+        }
+      }
+    }
+    {
+      auto s = c->prepare("SELECT min(created_ms) FROM jobs WHERE status = 'queued'");
+      if (s.step() && !s.is_null(0)) counts.oldest_queued_created_ms = s.int64(0);
+    }
+    {
+      auto s = c->prepare(
+          "SELECT count(*) FROM jobs WHERE finished_ms >= ? AND status IN ('succeeded', 'failed')");
+      s.bind(1, now_ms - 60000);
+      s.step();
+      counts.finished_last_minute = s.int64(0);
+    }
+    tx.commit();
+    return counts;
+  }
+
+  std::optional<ClaimedJob> claim_next(std::string_view owner, std::int64_t now_ms,
+                                       std::int64_t lease_ms) override {
+    auto c = acquire();
+    std::lock_guard write(write_mutex_);
+    Transaction tx(*c, true);
+    std::string id;
+    {
+      auto s = c->prepare(
+          "SELECT id FROM jobs WHERE status = 'queued' ORDER BY priority DESC, seq LIMIT 1");
+      if (!s.step()) return std::nullopt;
+      id = s.text(0);
+    }
+    {
+      auto s = c->prepare(
+          "UPDATE jobs SET status = 'running', lease_owner = ?, lease_expires_ms = ?, "
+          "attempts = attempts + 1, started_ms = ?, updated_ms = ?, progress = 0, "
+          "version = version + 1 WHERE id = ?");
+      s.bind(1, owner).bind(2, now_ms + lease_ms).bind(3, now_ms).bind(4, now_ms).bind(5, id);
+      s.run();
+    }
+    ClaimedJob claimed;
+    {
+      auto s = c->prepare("SELECT " JOB_COLUMNS ", scene FROM jobs WHERE id = ?");
+      s.bind(1, id);
+      s.step();
+      claimed.job = read_job(s);
+      claimed.scene_json = s.text(15);
+    }
+    tx.commit();
+    return claimed;
+  }
+
+  bool renew_lease(std::string_view id, std::string_view owner, std::int64_t until_ms) override {
+    return owned_update(
+        "UPDATE jobs SET lease_expires_ms = ? WHERE id = ? AND lease_owner = ? "
+        "AND status = 'running'",
+        [&](Statement& s) { s.bind(1, until_ms).bind(2, id).bind(3, owner); });
+  }
+
+  bool set_progress(std::string_view id, std::string_view owner, double progress,
+                    std::int64_t now_ms) override {
+    return owned_update(
+        "UPDATE jobs SET progress = ?, updated_ms = ?, version = version + 1 "
+        "WHERE id = ? AND lease_owner = ? AND status = 'running'",
+        [&](Statement& s) { s.bind(1, progress).bind(2, now_ms).bind(3, id).bind(4, owner); });
+  }
+
+  bool complete(std::string_view id, std::string_view owner, const StoredResult& result,
+                std::int64_t now_ms) override {
+    auto c = acquire();
+    std::lock_guard write(write_mutex_);
+    Transaction tx(*c, true);
+    std::int64_t seq = 0;
+    {
+      auto s = c->prepare(
+          "SELECT seq FROM jobs WHERE id = ? AND lease_owner = ? AND status = 'running'");
+      s.bind(1, id).bind(2, owner);
+      if (!s.step()) return false;
+      seq = s.int64(0);
+    }
+    {
+      auto s = c->prepare(
+          "INSERT INTO job_bodies (job_seq, body_index, name, mass_kg, animated, initial_pose, "
+          "vertices, triangles) VALUES (?, ?, ?, ?, ?, ?, ?, ?)");
+      for (std::size_t i = 0; i < result.bodies.size(); ++i) {
+        const StoredBody& b = result.bodies[i];
+        s.bind(1, seq).bind(2, static_cast<std::int64_t>(i)).bind(3, b.name).bind(4, b.mass_kg);
+        s.bind(5, b.animated ? 1 : 0);
+        s.bind_blob(6, std::span<const double>(b.initial_pose));
+        s.bind_blob(7, std::span<const float>(b.vertices));
+        s.bind_blob(8, std::span<const std::uint32_t>(b.triangles));
+        s.run();
+        s.reset();
+      }
+    }
+    {
+      auto s =
+          c->prepare("INSERT INTO job_frames (job_seq, frame, time_s, poses) VALUES (?, ?, ?, ?)");
+      for (std::size_t f = 0; f < result.frames.size(); ++f) {
+        s.bind(1, seq).bind(2, static_cast<std::int64_t>(f)).bind(3, result.frames[f].time_s);
+        s.bind_blob(4, std::span<const float>(result.frames[f].poses));
+        s.run();
+        s.reset();
+      }
+    }
+    {
+      auto s = c->prepare(
+          "UPDATE jobs SET status = 'succeeded', progress = 1, finished_ms = ?, updated_ms = ?, "
+          "version = version + 1, lease_owner = NULL, lease_expires_ms = NULL, stats = ?, "
+          "result_summary = ? WHERE seq = ?");
+      s.bind(1, now_ms).bind(2, now_ms).bind(3, result.stats_json).bind(4, result.summary_json);
+      s.bind(5, seq);
+      s.run();
+    }
+    tx.commit();
+    return true;
+  }
+
+  bool fail(std::string_view id, std::string_view owner, std::string_view error_type,
+            std::string_view message, std::int64_t now_ms) override {
+    return owned_update(
+        "UPDATE jobs SET status = 'failed', finished_ms = ?, updated_ms = ?, "
+        "version = version + 1, lease_owner = NULL, lease_expires_ms = NULL, error_type = ?, "
+        "error = ? WHERE id = ? AND lease_owner = ? AND status = 'running'",
+        [&](Statement& s) {
+          s.bind(1, now_ms).bind(2, now_ms).bind(3, error_type).bind(4, message);
+          s.bind(5, id).bind(6, owner);
+        });
+  }
+
+  bool finish_cancelled(std::string_view id, std::string_view owner, std::int64_t now_ms) override {
+    return owned_update(
+        "UPDATE jobs SET status = 'cancelled', finished_ms = ?, updated_ms = ?, "
+        "version = version + 1, lease_owner = NULL, lease_expires_ms = NULL "
+        "WHERE id = ? AND lease_owner = ? AND status = 'running'",
+        [&](Statement& s) { s.bind(1, now_ms).bind(2, now_ms).bind(3, id).bind(4, owner); });
+  }
+
+  bool release(std::string_view id, std::string_view owner, std::int64_t now_ms) override {
+    return owned_update(
+        "UPDATE jobs SET status = 'queued', progress = 0, started_ms = NULL, updated_ms = ?, "
+        "version = version + 1, lease_owner = NULL, lease_expires_ms = NULL, "
+        "attempts = max(attempts - 1, 0) WHERE id = ? AND lease_owner = ? AND status = 'running'",
+        [&](Statement& s) { s.bind(1, now_ms).bind(2, id).bind(3, owner); });
+  }
+
+  bool cancel_requested(std::string_view id) override {
+    auto c = acquire();
+    auto s = c->prepare("SELECT cancel_requested FROM jobs WHERE id = ?");
+    s.bind(1, id);
+    return !s.step() || s.int64(0) != 0;  // a deleted job counts as cancelled
+  }
+
+  CancelOutcome request_cancel(std::string_view id, std::int64_t now_ms) override {
+    auto c = acquire();
+    std::lock_guard write(write_mutex_);
+    Transaction tx(*c, true);
+    JobStatus status;
+    {
+      auto s = c->prepare("SELECT status FROM jobs WHERE id = ?");
+      s.bind(1, id);
+      if (!s.step()) return CancelOutcome::not_found;
+      status = parse_job_status(s.text(0)).value_or(JobStatus::queued);
+    }
+    CancelOutcome outcome = CancelOutcome::already_final;
+    if (status == JobStatus::queued) {
+      auto s = c->prepare(
+          "UPDATE jobs SET status = 'cancelled', cancel_requested = 1, finished_ms = ?, "
+          "updated_ms = ?, version = version + 1 WHERE id = ?");
+      s.bind(1, now_ms).bind(2, now_ms).bind(3, id);
+      s.run();
+      outcome = CancelOutcome::cancelled;
+    } else if (status == JobStatus::running) {
+      auto s = c->prepare(
+          "UPDATE jobs SET cancel_requested = 1, updated_ms = ?, version = version + 1 "
+          "WHERE id = ? AND cancel_requested = 0");
+      s.bind(1, now_ms).bind(2, id);
+      s.run();
+      outcome = CancelOutcome::requested;
+    }
+    tx.commit();
+    return outcome;
+  }
+
+  bool delete_job(std::string_view id) override {
+    auto c = acquire();
+    std::lock_guard write(write_mutex_);
+    Transaction tx(*c, true);
+    auto s = c->prepare("DELETE FROM jobs WHERE id = ?");
+    s.bind(1, id);
+    s.run();
+    const bool deleted = c->changes() > 0;
+    tx.commit();
+    return deleted;
+  }
+
+  std::optional<std::string> result_summary(std::string_view id) override {
+    auto c = acquire();
+    auto s = c->prepare("SELECT result_summary FROM jobs WHERE id = ? AND status = 'succeeded'");
+    s.bind(1, id);
+    if (!s.step()) return std::nullopt;
+    return s.text(0);
+  }
+
+  std::vector<StoredBody> result_bodies(std::string_view id) override {
+    auto c = acquire();
+    auto s = c->prepare(
+        "SELECT b.name, b.mass_kg, b.animated, b.initial_pose, b.vertices, b.triangles "
+        "FROM job_bodies b JOIN jobs j ON j.seq = b.job_seq WHERE j.id = ? "
+        "ORDER BY b.body_index");
+    s.bind(1, id);
+    std::vector<StoredBody> bodies;
+    while (s.step()) {
+      StoredBody b;
+      b.name = s.text(0);
+      b.mass_kg = s.real(1);
+      b.animated = s.int64(2) != 0;
+      const auto pose = s.blob<double>(3);
+      std::copy_n(pose.begin(), std::min<std::size_t>(pose.size(), 7), b.initial_pose.begin());
+      b.vertices = s.blob<float>(4);
+      b.triangles = s.blob<std::uint32_t>(5);
+      bodies.push_back(std::move(b));
+    }
+    return bodies;
+  }
+
+  std::vector<StoredFrame> result_frames(std::string_view id, std::int64_t from,
+                                         std::int64_t to) override {
+    auto c = acquire();
+    auto s = c->prepare(
+        "SELECT f.time_s, f.poses FROM job_frames f JOIN jobs j ON j.seq = f.job_seq "
+        "WHERE j.id = ? AND f.frame >= ? AND f.frame < ? ORDER BY f.frame");
+    s.bind(1, id).bind(2, from).bind(3, to);
+    std::vector<StoredFrame> frames;
+    while (s.step())
+      frames.push_back({s.real(0), s.blob<float>(1)});
+    return frames;
+  }
+
+  RecoveryReport recover_expired(std::int64_t now_ms, int max_attempts) override {
+    auto c = acquire();
+    std::lock_guard write(write_mutex_);
+    Transaction tx(*c, true);
+    RecoveryReport report;
+    {
+      auto s = c->prepare(
+          "UPDATE jobs SET status = 'failed', finished_ms = ?, updated_ms = ?, "
+          "version = version + 1, lease_owner = NULL, lease_expires_ms = NULL, "
+          "error_type = 'worker_lost', error = 'the worker running this job stopped (crashed or "
+          "was killed) ' || attempts || ' times; the job is not retried again' "
+          "WHERE status = 'running' AND lease_expires_ms < ? AND attempts >= ?");
+      s.bind(1, now_ms).bind(2, now_ms).bind(3, now_ms).bind(4, max_attempts);
+      s.run();
+      report.failed = c->changes();
+    }
+    {
+      // A job whose cancel was requested is not run again.
+      auto s = c->prepare(
+          "UPDATE jobs SET status = CASE cancel_requested WHEN 1 THEN 'cancelled' ELSE 'queued' "
+          "END, finished_ms = CASE cancel_requested WHEN 1 THEN ? ELSE NULL END, "
+          "progress = 0, started_ms = NULL, updated_ms = ?, version = version + 1, "
+          "lease_owner = NULL, lease_expires_ms = NULL "
+          "WHERE status = 'running' AND lease_expires_ms < ?");
+      s.bind(1, now_ms).bind(2, now_ms).bind(3, now_ms);
+      s.run();
+      report.requeued = c->changes();
+    }
+    tx.commit();
+    return report;
+  }
+
+  std::vector<std::string> running_owners() override {
+    auto c = acquire();
+    auto s = c->prepare(
+        "SELECT DISTINCT lease_owner FROM jobs WHERE status = 'running' AND lease_owner IS NOT "
+        "NULL");
+    std::vector<std::string> owners;
+    while (s.step())
+      owners.push_back(s.text(0));
+    return owners;
+  }
+
+  std::int64_t expire_leases(std::string_view owner) override {
+    auto c = acquire();
+    std::lock_guard write(write_mutex_);
+    Transaction tx(*c, true);
+    auto s = c->prepare(
+        "UPDATE jobs SET lease_expires_ms = 0 WHERE status = 'running' AND lease_owner = ?");
+    s.bind(1, owner);
+    s.run();
+    const std::int64_t n = c->changes();
+    tx.commit();
+    return n;
+  }
+
+  std::int64_t prune_finished(std::int64_t before_ms) override {
+    auto c = acquire();
+    std::lock_guard write(write_mutex_);
+    Transaction tx(*c, true);
+    auto s = c->prepare(
+        "DELETE FROM jobs WHERE finished_ms < ? AND status IN ('succeeded', 'failed', "
+        "'cancelled')");
+    s.bind(1, before_ms);
+    s.run();
+    const std::int64_t n = c->changes();
+    tx.commit();
+    return n;
+  }
+
+  bool ping() override {
+    try {
+      auto c = acquire();
+      auto s = c->prepare("SELECT 1");
+      return s.step() && s.int64(0) == 1;
+    } catch (const StorageError&) {
+      return false;
+    }
+  }
+
+ private:
+  // A pooled connection, returned on destruction.
+  class Lease {
+   public:
+    Lease(SqliteStorage& owner, std::unique_ptr<Connection> c) : owner_(owner), c_(std::move(c)) {}
+    Lease(const Lease&) = delete;
+    Lease& operator=(const Lease&) = delete;
+    ~Lease() {
+      std::lock_guard lock(owner_.pool_mutex_);
+      owner_.pool_.push_back(std::move(c_));
+    }
+    Connection* operator->() { return c_.get(); }
+    Connection& operator*() { return *c_; }
+
+   private:
+    SqliteStorage& owner_;
+    std::unique_ptr<Connection> c_;
+  };
+
+  Lease acquire() {
+    {
+      std::lock_guard lock(pool_mutex_);
+      if (!pool_.empty()) {
+        auto c = std::move(pool_.back());
+        pool_.pop_back();
+        return Lease(*this, std::move(c));
+      }
+    }
+    return Lease(*this, std::make_unique<Connection>(options_.file, options_));
+  }
+
+  std::optional<JobRecord> read_by_id(Connection& c, std::string_view id) {
+    auto s = c.prepare("SELECT " JOB_COLUMNS " FROM jobs WHERE id = ?");
+    s.bind(1, id);
+    if (!s.step()) return std::nullopt;
+    return read_job(s);
+  }
+
+  template <typename Bind>
+  bool owned_update(const char* sql, Bind bind) {
+    auto c = acquire();
+    std::lock_guard write(write_mutex_);
+    Transaction tx(*c, true);
+    auto s = c->prepare(sql);
+    bind(s);
+    s.run();
+    const bool changed = c->changes() > 0;
+    tx.commit();
+    return changed;
+  }
+
+  void migrate(Connection& c) {
+    std::lock_guard write(write_mutex_);
+    c.exec(
+        "CREATE TABLE IF NOT EXISTS schema_migrations (version INTEGER PRIMARY KEY, "
+        "name TEXT NOT NULL, applied_ms INTEGER NOT NULL)");
+    for (const EmbeddedFile& m : embedded_migrations()) {
+      const int version = std::stoi(std::string(m.name.substr(0, 3)));
+      Transaction tx(c, true);
+      {
+        auto s = c.prepare("SELECT 1 FROM schema_migrations WHERE version = ?");
+        s.bind(1, version);
+        if (s.step()) continue;
+      }
+      c.exec(std::string(m.data).c_str());
+      {
+        auto s = c.prepare(
+            "INSERT INTO schema_migrations (version, name, applied_ms) "
+            "VALUES (?, ?, CAST((julianday('now') - 2440587.5) * 86400000 AS INTEGER))");
+        s.bind(1, version).bind(2, m.name);
+        s.run();
+      }
+      tx.commit();
+    }
+  }
+
+  SqliteOptions options_;
+  std::mutex write_mutex_;
+  std::mutex pool_mutex_;
+  std::vector<std::unique_ptr<Connection>> pool_;
+};
+
+}  // namespace
+
+std::unique_ptr<Storage> open_sqlite_storage(const SqliteOptions& options) {
+  return std::make_unique<SqliteStorage>(options);
+}
+
+int sqlite_schema_version() {
+  int version = 0;
+  for (const EmbeddedFile& m : embedded_migrations()) {
+    version = std::max(version, std::stoi(std::string(m.name.substr(0, 3))));
+  }
+  return version;
+}
+
+}  // namespace brisance::server

@@ -1,0 +1,169 @@
+// server/storage: the durable job queue and result store behind an interface, so the SQLite back
+// end (server/sqlite_storage) and a PostgreSQL one can be swapped without touching the services.
+//
+// Every method is one transaction. A job moves queued → running → succeeded | failed | cancelled;
+// a running job is held by a lease (owner + expiry) that its worker renews, and every write a
+// worker makes is conditional on still holding the lease, so a job that was requeued after its
+// worker died can complete only once.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace brisance::server {
+
+enum class JobStatus { queued, running, succeeded, failed, cancelled };
+
+std::string_view to_string(JobStatus status);
+std::optional<JobStatus> parse_job_status(std::string_view text);
+inline bool is_final(JobStatus status) {
+  return status == JobStatus::succeeded || status == JobStatus::failed ||
+         status == JobStatus::cancelled;
+}
+
+// Storage failed (disk full, database locked beyond the busy timeout, corrupt file). The message
+// is for logs only; clients see a generic problem.
+struct StorageError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+struct JobRecord {
+  std::string id;
+  std::int64_t seq = 0;  // insertion order; the pagination cursor
+  JobStatus status = JobStatus::queued;
+  int priority = 0;
+  double progress = 0.0;
+  std::int64_t version = 1;  // bumped by every change: the ETag
+  int attempts = 0;          // times a worker claimed it
+  bool cancel_requested = false;
+  std::int64_t created_ms = 0;
+  std::int64_t updated_ms = 0;
+  std::optional<std::int64_t> started_ms;
+  std::optional<std::int64_t> finished_ms;
+  std::string error_type;  // stable code, empty unless failed
+  std::string error;       // message for the client, empty unless failed
+  std::string stats_json;  // the result's `stats` object once succeeded, else empty
+};
+
+struct NewJob {
+  std::string id;
+  std::string scene_json;  // validated scene, as compact JSON
+  int priority = 0;
+  std::string idempotency_key;  // empty: none
+  std::string request_hash;     // hash of the request body, for the idempotency check
+  std::int64_t now_ms = 0;
+  bool create_if_missing = true;  // false: only look the idempotency key up (queue full)
+};
+
+enum class CreateOutcome { created, existing, key_conflict, not_created };
+struct CreateResult {
+  CreateOutcome outcome = CreateOutcome::created;
+  JobRecord job;  // the new job, or the one the idempotency key already names
+};
+
+struct JobPage {
+  std::vector<JobRecord> jobs;         // newest first
+  std::optional<std::int64_t> cursor;  // pass back as `before_seq` for the next page
+};
+
+struct ClaimedJob {
+  JobRecord job;
+  std::string scene_json;
+};
+
+// One body of a stored result; the mesh is stored once per body.
+struct StoredBody {
+  std::string name;
+  double mass_kg = 0.0;
+  bool animated = false;
+  std::array<double, 7> initial_pose{};  // x, y, z, qx, qy, qz, qw
+  std::vector<float> vertices;           // x, y, z per vertex, shape frame
+  std::vector<std::uint32_t> triangles;  // three indices per triangle
+};
+
+// A frame: its time and, per animated body in `animated` order, x y z qx qy qz qw as float32.
+struct StoredFrame {
+  double time_s = 0.0;
+  std::vector<float> poses;
+};
+
+struct StoredResult {
+  std::string summary_json;  // bodies (without meshes), final_state, stats, warnings
+  std::string stats_json;
+  std::vector<StoredBody> bodies;
+  std::vector<StoredFrame> frames;
+};
+
+struct QueueCounts {
+  std::array<std::int64_t, 5> by_status{};  // indexed by JobStatus
+  std::optional<std::int64_t> oldest_queued_created_ms;
+  std::int64_t finished_last_minute = 0;  // succeeded or failed in the last 60 s
+};
+
+enum class CancelOutcome { not_found, cancelled, requested, already_final };
+
+struct RecoveryReport {
+  std::int64_t requeued = 0;
+  std::int64_t failed = 0;
+};
+
+class Storage {
+ public:
+  virtual ~Storage() = default;
+
+  // Inserts the job, or returns the job its idempotency key names (key_conflict if that job was
+  // created from a different request body).
+  virtual CreateResult create_job(const NewJob& job) = 0;
+  virtual std::optional<JobRecord> get_job(std::string_view id) = 0;
+  // Newest first; `before_seq` 0 starts at the newest.
+  virtual JobPage list_jobs(std::optional<JobStatus> status, std::int64_t before_seq,
+                            int limit) = 0;
+  virtual std::int64_t count_queued() = 0;
+  virtual QueueCounts queue_counts(std::int64_t now_ms) = 0;
+
+  // Worker side. claim_next takes the queued job of highest priority (oldest first), marks it
+  // running under `owner` until now + lease and counts the attempt.
+  virtual std::optional<ClaimedJob> claim_next(std::string_view owner, std::int64_t now_ms,
+                                               std::int64_t lease_ms) = 0;
+  // The following return false when the job is no longer running under `owner` (deleted,
+  // requeued after a lost lease); the worker then drops it.
+  virtual bool renew_lease(std::string_view id, std::string_view owner, std::int64_t until_ms) = 0;
+  virtual bool set_progress(std::string_view id, std::string_view owner, double progress,
+                            std::int64_t now_ms) = 0;
+  virtual bool complete(std::string_view id, std::string_view owner, const StoredResult& result,
+                        std::int64_t now_ms) = 0;
+  virtual bool fail(std::string_view id, std::string_view owner, std::string_view error_type,
+                    std::string_view message, std::int64_t now_ms) = 0;
+  virtual bool finish_cancelled(std::string_view id, std::string_view owner,
+                                std::int64_t now_ms) = 0;
+  // Back to the queue without counting the attempt (graceful shutdown).
+  virtual bool release(std::string_view id, std::string_view owner, std::int64_t now_ms) = 0;
+  virtual bool cancel_requested(std::string_view id) = 0;
+
+  // Client side.
+  virtual CancelOutcome request_cancel(std::string_view id, std::int64_t now_ms) = 0;
+  virtual bool delete_job(std::string_view id) = 0;
+  virtual std::optional<std::string> result_summary(std::string_view id) = 0;
+  virtual std::vector<StoredBody> result_bodies(std::string_view id) = 0;
+  // Frames [from, to) of a succeeded job.
+  virtual std::vector<StoredFrame> result_frames(std::string_view id, std::int64_t from,
+                                                 std::int64_t to) = 0;
+
+  // Maintenance. Running jobs whose lease expired go back to the queue, or end failed once
+  // they have used `max_attempts`.
+  virtual RecoveryReport recover_expired(std::int64_t now_ms, int max_attempts) = 0;
+  // The owners holding leases on running jobs, and expiring every lease of one (its process is
+  // known to be dead) so recover_expired takes its jobs back at once.
+  virtual std::vector<std::string> running_owners() = 0;
+  virtual std::int64_t expire_leases(std::string_view owner) = 0;
+  // Deletes finished jobs (and their results) that finished before `before_ms`.
+  virtual std::int64_t prune_finished(std::int64_t before_ms) = 0;
+  virtual bool ping() = 0;
+};
+
+}  // namespace brisance::server

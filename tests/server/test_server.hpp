@@ -1,0 +1,152 @@
+// tests/server/test_server: a real server in-process — SQLite file in a fresh temporary folder,
+// worker pool, Beast transport on an ephemeral port — and the scenes the server tests submit.
+#pragma once
+
+#include <filesystem>
+#include <memory>
+#include <random>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "server/api.hpp"
+#include "server/http_server.hpp"
+#include "server/job_service.hpp"
+#include "server/metrics.hpp"
+#include "server/sqlite_storage.hpp"
+#include "server/worker_pool.hpp"
+#include "tests/server/http_client.hpp"
+
+namespace brisance::testing {
+
+// A folder under the system temp dir, removed on destruction.
+class TempDir {
+ public:
+  TempDir() {
+    std::random_device device;
+    path_ = std::filesystem::temp_directory_path() /
+            ("brisance-test-" + std::to_string(device()) + std::to_string(device()));
+    std::filesystem::create_directories(path_);
+  }
+  ~TempDir() {
+    std::error_code ignored;
+    std::filesystem::remove_all(path_, ignored);
+  }
+  TempDir(const TempDir&) = delete;
+  TempDir& operator=(const TempDir&) = delete;
+  const std::filesystem::path& path() const { return path_; }
+
+ private:
+  std::filesystem::path path_;
+};
+
+struct TestServerOptions {
+  int workers = 1;
+  std::int64_t max_queue = 1000;
+  std::size_t body_limit_bytes = 1 << 20;
+  std::string api_keys;  // keys-file text; empty: no keys
+  std::chrono::milliseconds lease{15000};
+};
+
+inline TestServerOptions with_workers(int workers) {
+  TestServerOptions options;
+  options.workers = workers;
+  return options;
+}
+
+class TestServer {
+ public:
+  explicit TestServer(TestServerOptions options = {}) {
+    server::SqliteOptions store;
+    store.file = dir_.path() / "brisance.sqlite3";
+    storage_ = server::open_sqlite_storage(store);
+    server::ServiceOptions service_options;
+    service_options.max_queue = options.max_queue;
+    service_ = std::make_unique<server::JobService>(*storage_, service_options);
+    server::WorkerOptions worker_options;
+    worker_options.workers = options.workers;
+    worker_options.lease = options.lease;
+    pool_ = std::make_unique<server::WorkerPool>(*service_, metrics_, worker_options);
+    if (!options.api_keys.empty()) keys_ = server::ApiKeys::parse(options.api_keys, "test");
+    server::ApiOptions api_options;
+    api_options.body_limit_bytes = options.body_limit_bytes;
+    api_ = std::make_unique<server::Api>(
+        *service_, metrics_, keys_,
+        [this] {
+          return server::WorkerGauges{pool_->busy(), pool_->size()};
+        },
+        api_options);
+    server::HttpOptions http;
+    http.port = 0;
+    http.body_limit_bytes = options.body_limit_bytes;
+    http_ = std::make_unique<server::HttpServer>(*api_, *service_, metrics_, http);
+    http_->listen();
+    pool_->start();
+    http_->start();
+  }
+  ~TestServer() { stop(); }
+
+  void stop() {
+    if (http_) http_->stop(std::chrono::seconds(5));
+    if (pool_) pool_->stop(std::chrono::milliseconds(0));
+  }
+
+  std::uint16_t port() const { return http_->port(); }
+  server::JobService& service() { return *service_; }
+  server::WorkerPool& pool() { return *pool_; }
+
+  ClientResponse request(const std::string& method, const std::string& target,
+                         const std::string& body = {}, const Headers& headers = {}) {
+    return http_request(port(), method, target, body, headers);
+  }
+  nlohmann::json get_json(const std::string& target, const Headers& headers = {}) {
+    return nlohmann::json::parse(request("GET", target, {}, headers).body);
+  }
+
+ private:
+  TempDir dir_;
+  std::unique_ptr<server::Storage> storage_;
+  std::unique_ptr<server::JobService> service_;
+  server::Metrics metrics_;
+  std::unique_ptr<server::WorkerPool> pool_;
+  server::ApiKeys keys_;
+  std::unique_ptr<server::Api> api_;
+  std::unique_ptr<server::HttpServer> http_;
+};
+
+// Three wooden blocks and a 10 kg charge (scenes/three_blocks.json): a run of a few ms.
+inline nlohmann::json quick_scene() {
+  return {{"charges", {{{"position", {0, 0.25, 0}}, {"mass", 10}}}},
+          {"objects",
+           {{{"name", "near"},
+             {"shape", {{"type", "box"}, {"size", {0.5, 0.5, 0.5}}}},
+             {"position", {0.5, 0.25, 6}},
+             {"material", "wood"}},
+            {{"name", "far"},
+             {"shape", {{"type", "box"}, {"size", {0.5, 0.5, 0.5}}}},
+             {"position", {3.0, 0.25, 6}},
+             {"material", "wood"}}}},
+          {"simulation", {{"duration", 1}, {"frame_rate", 30}}}};
+}
+
+// Boxes falling forever (no ground, no air) with a tiny fixed step: a run of minutes, never at
+// rest, so it is still running whenever a test cancels it or stops the server.
+inline nlohmann::json slow_scene() {
+  nlohmann::json objects = nlohmann::json::array();
+  for (int i = 0; i < 40; ++i) {
+    objects.push_back({{"name", "box" + std::to_string(i)},
+                       {"shape", {{"type", "box"}, {"size", {0.2, 0.2, 0.2}}}},
+                       {"position", {0.3 * i, 1.0, 20}},
+                       {"mass", 1}});
+  }
+  return {{"charges", {{{"position", {0, 1, 0}}, {"mass", 1}}}},
+          {"environment", {{"ground", nullptr}, {"air_density", 0}}},
+          {"objects", objects},
+          {"simulation", {{"duration", 600}, {"frame_rate", 10}, {"time_step", 1e-5}}}};
+}
+
+inline std::string job_body(const nlohmann::json& scene, int priority = 0) {
+  return nlohmann::json{{"scene", scene}, {"priority", priority}}.dump();
+}
+
+}  // namespace brisance::testing

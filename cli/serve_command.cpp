@@ -20,6 +20,7 @@
 #include "server/log.hpp"
 #include "server/metrics.hpp"
 #include "server/sqlite_storage.hpp"
+#include "server/static_files.hpp"
 #include "server/worker_pool.hpp"
 
 namespace brisance::cli {
@@ -116,6 +117,7 @@ int run_serve(const Args& args, std::ostream& out) {
                            {"sync"},
                            {"grace-s"},
                            {"log-level"},
+                           {"web-dir"},
                            {"help", false, "h"}});
   if (flags.has("help")) {
     out << kHelp;
@@ -205,6 +207,13 @@ int run_serve(const Args& args, std::ostream& out) {
   WorkerPool pool(service, metrics, workers);
   ApiOptions api_options;
   api_options.body_limit_bytes = http.body_limit_bytes;
+  StaticFiles web(setting(flags, "web-dir", "BRISANCE_WEB_DIR").value_or(BRISANCE_WEB_DIR));
+  if (web.available()) {
+    api_options.static_file = [&web](std::string_view path) { return web.get(path); };
+  } else {
+    log_event(LogLevel::warn, "no dashboard: index.html not found (run make run, or --web-dir)",
+              {{"web_dir", web.root().string()}});
+  }
   Api api(
       service, metrics, keys,
       [&pool] {
@@ -226,7 +235,8 @@ int run_serve(const Args& args, std::ostream& out) {
              {"database", store.file.string()},
              {"workers", workers.workers},
              {"api_keys", keys.size()},
-             {"synchronous", sync}});
+             {"synchronous", sync},
+             {"dashboard", web.available()}});
 
   int signal_number = 0;
   sigwait(&stop_signals, &signal_number);

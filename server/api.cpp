@@ -161,7 +161,7 @@ json job_to_json(const JobRecord& job) {
                                         : json{{"type", job.error_type}, {"message", job.error}};
   out["stats"] = job.stats_json.empty() ? json(nullptr) : json::parse(job.stats_json);
   const std::string self = job_path(job.id);
-  json links{{"self", self}, {"cancel", self + "/cancel"}};
+  json links{{"self", self}, {"cancel", self + "/cancel"}, {"scene", self + "/scene"}};
   if (job.status == JobStatus::succeeded) {
     links["result"] = self + "/result";
     links["frames"] = self + "/frames";
@@ -286,6 +286,7 @@ std::string_view route_template(const std::vector<std::string_view>& parts) {
     if (parts.size() == 3) return "/v1/jobs/{id}";
     if (parts.size() == 4) {
       if (parts[3] == "cancel") return "/v1/jobs/{id}/cancel";
+      if (parts[3] == "scene") return "/v1/jobs/{id}/scene";
       if (parts[3] == "result") return "/v1/jobs/{id}/result";
       if (parts[3] == "frames") return "/v1/jobs/{id}/frames";
       if (parts[3] == "meshes") return "/v1/jobs/{id}/meshes";
@@ -682,6 +683,18 @@ HttpResponse Api::route(const HttpRequest& request, const std::optional<LongPoll
           r.headers.emplace_back("Location", job_path(id));
         }
       }
+    }
+    r.route = std::string(tmpl);
+    return r;
+  }
+
+  if (tmpl == "/v1/jobs/{id}/scene") {
+    if (!get) {
+      r = method_not_allowed("GET, HEAD");
+    } else if (auto scene = service_.storage().scene(id)) {
+      r.body = std::move(*scene);
+    } else {
+      r = job_not_found(id);
     }
     r.route = std::string(tmpl);
     return r;

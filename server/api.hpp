@@ -48,7 +48,7 @@ struct ApiOptions {
   std::size_t body_limit_bytes = 16 * 1024 * 1024;  // for the 413 problem's detail
   std::chrono::seconds max_wait{30};
   // Static files of the dashboard by path ("index.html"); nullptr: no dashboard.
-  std::function<std::optional<std::pair<std::string_view, std::string_view>>(std::string_view)>
+  std::function<std::optional<std::pair<std::string, std::string>>(std::string_view)>
       static_file;  // returns (content type, bytes)
 };
 

@@ -517,6 +517,14 @@ class SqliteStorage final : public Storage {
     return deleted;
   }
 
+  std::optional<std::string> scene(std::string_view id) override {
+    auto c = acquire();
+    auto s = c->prepare("SELECT scene FROM jobs WHERE id = ?");
+    s.bind(1, id);
+    if (!s.step()) return std::nullopt;
+    return s.text(0);
+  }
+
   std::optional<std::string> result_summary(std::string_view id) override {
     auto c = acquire();
     auto s = c->prepare("SELECT result_summary FROM jobs WHERE id = ? AND status = 'succeeded'");

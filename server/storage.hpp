@@ -148,6 +148,7 @@ class Storage {
   // Client side.
   virtual CancelOutcome request_cancel(std::string_view id, std::int64_t now_ms) = 0;
   virtual bool delete_job(std::string_view id) = 0;
+  virtual std::optional<std::string> scene(std::string_view id) = 0;  // as submitted, compact
   virtual std::optional<std::string> result_summary(std::string_view id) = 0;
   virtual std::vector<StoredBody> result_bodies(std::string_view id) = 0;
   // Frames [from, to) of a succeeded job.

@@ -573,12 +573,15 @@ async function jobsLifecycle(s) {
   expect(meshes?.bodies.length === 3 && meshes.bodies.every((b) => b.mesh.triangles.length === 12), "meshes: 3 boxes of 12 triangles");
   await call(s, "GET", `/v1/jobs/${job.id}/meshes`, 304, { headers: { "If-None-Match": meshResponse.headers.etag } });
 
+  const { body: scene } = await call(s, "GET", `/v1/jobs/${job.id}/scene`, 200);
+  expect(scene?.objects?.length === 3, "scene: the three blocks as submitted");
+
   const { body: glb } = await call(s, "GET", `/v1/jobs/${job.id}/result.glb`, 200);
   if (glb) checkGlb(glb, 3, "result.glb");
   await call(s, "HEAD", `/v1/jobs/${job.id}/result.glb`, 200);
 
   await call(s, "POST", `/v1/jobs/${job.id}/cancel`, 409, { note: "finished job" });
-  for (const tail of ["", "/cancel", "/result", "/frames", "/meshes", "/result.glb"]) {
+  for (const tail of ["", "/cancel", "/scene", "/result", "/frames", "/meshes", "/result.glb"]) {
     await call(s, tail === "/cancel" ? "POST" : "GET", `/v1/jobs/${unknownId}${tail}`, 404);
   }
   await call(s, "DELETE", `/v1/jobs/${unknownId}`, 404);

@@ -87,6 +87,9 @@ TEST(Api, JobLifecycleFromSubmissionToEveryResultForm) {
   EXPECT_EQ(glb.header("content-type"), "model/gltf-binary");
   EXPECT_EQ(glb.body.substr(0, 4), "glTF");
 
+  // The scene comes back as it was submitted.
+  EXPECT_EQ(server.get_json("/v1/jobs/" + id + "/scene"), quick_scene());
+
   const json list = server.get_json("/v1/jobs?status=succeeded");
   ASSERT_EQ(list.at("jobs").size(), 1u);
   EXPECT_EQ(list.at("jobs")[0].at("id"), id);

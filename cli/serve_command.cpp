@@ -37,7 +37,7 @@ constexpr std::string_view kHelp =
     "  --port N             TCP port, 0 for any free one (default 8080)       [BRISANCE_PORT]\n"
     "  --data DIR           where the database lives (default ./data)        [BRISANCE_DATA]\n"
     "  --workers N          simulation threads (default: cores, at least 1)  [BRISANCE_WORKERS]\n"
-    "  --max-queue N        queued jobs above which POST gets 429 (10000)     "
+    "  --max-queue N        queued jobs at which POST gets 429 (10000)        "
     "[BRISANCE_MAX_QUEUE]\n"
     "  --api-keys FILE      require API keys listed (hashed) in FILE          [BRISANCE_API_KEYS]\n"
     "  --io-threads N       HTTP I/O threads (default 2)                      "
@@ -133,7 +133,7 @@ int run_serve(const Args& args, std::ostream& out) {
   http.port =
       static_cast<std::uint16_t>(integer_setting(flags, "port", "BRISANCE_PORT", 8080, 0, 65535));
   http.io_threads =
-      static_cast<int>(integer_setting(flags, "io-threads", "BRISANCE_IO_THREADS", 2, 1, 64));
+      static_cast<int>(integer_setting(flags, "io-threads", "BRISANCE_IO_THREADS", 4, 1, 64));
   http.body_limit_bytes = static_cast<std::size_t>(
       number_setting(flags, "body-limit-mb", "BRISANCE_BODY_LIMIT_MB", 16, 0.001, 4096) * 1024 *
       1024);

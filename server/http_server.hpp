@@ -16,7 +16,7 @@ namespace brisance::server {
 struct HttpOptions {
   std::string bind = "127.0.0.1";
   std::uint16_t port = 8080;  // 0: any free port (see HttpServer::port)
-  int io_threads = 2;
+  int io_threads = 4;         // requests run to completion on them, waits included
   std::size_t body_limit_bytes = 16 * 1024 * 1024;
   std::chrono::seconds read_timeout{30};  // a request must arrive whole within this
   std::chrono::seconds idle_timeout{60};  // a keep-alive connection may sit idle this long

@@ -167,8 +167,14 @@ SubmitOutcome JobService::submit(const SubmitRequest& request) {
   return outcome;
 }
 
+void JobService::forget_queued_count() {
+  std::lock_guard lock(queued_mutex_);
+  queued_checked_ = {};
+}
+
 CancelOutcome JobService::cancel(const std::string& id) {
   const CancelOutcome outcome = storage_.request_cancel(id, now_ms());
+  if (outcome == CancelOutcome::cancelled) forget_queued_count();
   if (outcome == CancelOutcome::requested || outcome == CancelOutcome::cancelled) {
     {
       std::lock_guard lock(running_mutex_);
@@ -182,6 +188,7 @@ CancelOutcome JobService::cancel(const std::string& id) {
 bool JobService::remove(const std::string& id) {
   const bool removed = storage_.delete_job(id);
   if (removed) {
+    forget_queued_count();
     {
       std::lock_guard lock(running_mutex_);
       if (auto it = running_.find(id); it != running_.end()) it->second->store(true);
@@ -286,7 +293,8 @@ StoredResult to_stored_result(const engine::Result& result) {
                {"frame_times", result.frame_times_s},
                {"final_state", std::move(final_state)},
                {"stats", stats},
-               {"warnings", std::move(warnings)}};
+               {"warnings", std::move(warnings)},
+               {"fracture", io::fracture_to_json(result.fracture)}};
   stored.stats_json = stats.dump();
   stored.summary_json = summary.dump();
   return stored;

@@ -94,6 +94,7 @@ class JobService {
 
  private:
   std::int64_t queued_estimate();
+  void forget_queued_count();  // the next submission counts again (room was made)
 
   Storage& storage_;
   ServiceOptions options_;

@@ -43,6 +43,10 @@ TEST(Api, JobLifecycleFromSubmissionToEveryResultForm) {
 
   const json done = wait_for(server, id, "succeeded");
   ASSERT_EQ(done.at("status"), "succeeded") << done.dump();
+  // The job's JSON is written as text; it must be exactly what the JSON library would write.
+  const std::string text = server.request("GET", "/v1/jobs/" + id).body;
+  EXPECT_EQ(json::parse(text).dump(), text);
+  EXPECT_EQ(done.at("links").at("glb"), "/v1/jobs/" + id + "/result.glb");
   EXPECT_EQ(done.at("progress"), 1.0);
   EXPECT_EQ(done.at("attempts"), 1);
   EXPECT_FALSE(done.at("started_at").is_null());

@@ -10,7 +10,7 @@ DEB_PACKAGES := cmake g++ make ninja-build pkg-config \
   libeigen3-dev libboost1.81-dev nlohmann-json3-dev libsqlite3-dev \
   libgtest-dev libgmock-dev libbenchmark-dev python3
 
-.PHONY: all deps gltf-validator build run test sanitize bench accuracy-study format clean
+.PHONY: all deps gltf-validator build run test sanitize bench load-bench accuracy-study format clean
 
 all: build
 
@@ -46,13 +46,11 @@ $(BUILD_DIR)/release/CMakeCache.txt: | deps
 build: deps $(BUILD_DIR)/release/CMakeCache.txt
 	cmake --build $(BUILD_DIR)/release -j $(JOBS)
 
-# Builds the release binary and runs it. The HTTP service (`brisance serve`) is not in this build
-# yet; until it lands this shows a blast calculation and simulates the thesis's brick wall into
-# build/brick_wall.glb (open it in any glTF viewer).
+# Builds the release binary and serves the dashboard and the API on http://127.0.0.1:8080 with
+# its SQLite store in ./data (Ctrl-C stops it gracefully). BRISANCE_* variables configure it
+# (docs/service.md).
 run: build
-	$(BUILD_DIR)/release/cli/brisance version
-	$(BUILD_DIR)/release/cli/brisance blast --charge-kg 100 --distance-m 15
-	$(BUILD_DIR)/release/cli/brisance run scenes/brick_wall.json -o $(BUILD_DIR)/brick_wall.glb
+	$(BUILD_DIR)/release/cli/brisance serve --data data
 
 # The whole test suite, built with AddressSanitizer + UndefinedBehaviorSanitizer and warnings as
 # errors, run through CTest.
@@ -65,6 +63,11 @@ test: deps gltf-validator
 bench: build
 	$(BUILD_DIR)/release/bench/blast_bench
 	$(BUILD_DIR)/release/bench/step_bench
+	$(BUILD_DIR)/release/bench/fracture_bench
+
+# The job service under load: POST, GET, fixed-rate and drain phases against a spawned server.
+load-bench: build
+	$(BUILD_DIR)/release/bench/load_bench --server $(BUILD_DIR)/release/cli/brisance
 
 # Run time versus error of integrators, steps and panel sizes on the example scenes; writes
 # bench/results/accuracy_study.{csv,svg,txt} (docs/simulator.md reads the defaults off it).

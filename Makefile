@@ -9,8 +9,10 @@ GENERATOR := $(shell command -v ninja >/dev/null 2>&1 && echo "-G Ninja")
 DEB_PACKAGES := cmake g++ make ninja-build pkg-config \
   libeigen3-dev libboost1.81-dev nlohmann-json3-dev libsqlite3-dev \
   libgtest-dev libgmock-dev libbenchmark-dev python3
+# Only the browser tests need these.
+TEST_DEB_PACKAGES := chromium
 
-.PHONY: all deps gltf-validator build run test sanitize bench load-bench accuracy-study format clean
+.PHONY: all deps node gltf-validator web web-test-deps build run test sanitize bench load-bench accuracy-study format clean
 
 all: build
 
@@ -27,18 +29,42 @@ deps:
 	  DEBIAN_FRONTEND=noninteractive $$sudo apt-get install -y -qq --no-install-recommends $$missing; \
 	fi
 
-# The Khronos glTF validator for `make test` (tests/io.cmake): node and npm (Debian's nodejs and
-# npm only when no node is installed: a NodeSource node ships its own npm, which Debian's npm
-# package conflicts with), then the validator pinned in tests/gltf/package-lock.json.
-gltf-validator:
+# node and npm for the dashboard and the node-based tests: Debian's nodejs and npm only when no
+# node is installed (a NodeSource node ships its own npm, which Debian's npm package conflicts
+# with).
+node:
 	@if ! command -v node >/dev/null 2>&1 || ! command -v npm >/dev/null 2>&1; then \
 	  echo "Installing Debian packages nodejs npm"; \
 	  sudo=""; [ "$$(id -u)" -eq 0 ] || sudo="sudo"; \
 	  $$sudo apt-get update -qq && \
 	  DEBIAN_FRONTEND=noninteractive $$sudo apt-get install -y -qq --no-install-recommends nodejs npm; \
 	fi
+
+# The Khronos glTF validator and three.js (tests/io.cmake), and the API contract tools
+# (tests/contract.cmake), pinned in their package-lock.json files.
+gltf-validator: node
 	npm ci --prefix tests/gltf --no-audit --no-fund --loglevel=error
 	npm ci --prefix tests/contract --no-audit --no-fund --loglevel=error
+
+# The dashboard, built into web/dist (served by `brisance serve` at /).
+web: node
+	npm ci --prefix clients/typescript --no-audit --no-fund --loglevel=error
+	npm ci --prefix web --no-audit --no-fund --loglevel=error
+	npm run --prefix web build
+
+# The browser tests (tests/web.cmake): Debian's chromium driven by playwright-core.
+web-test-deps: node
+	@missing=""; \
+	for p in $(TEST_DEB_PACKAGES); do \
+	  dpkg-query -W -f='$${Status}' "$$p" 2>/dev/null | grep -q "install ok installed" || missing="$$missing $$p"; \
+	done; \
+	if [ -n "$$missing" ]; then \
+	  echo "Installing missing Debian packages:$$missing"; \
+	  sudo=""; [ "$$(id -u)" -eq 0 ] || sudo="sudo"; \
+	  $$sudo apt-get update -qq && \
+	  DEBIAN_FRONTEND=noninteractive $$sudo apt-get install -y -qq --no-install-recommends $$missing; \
+	fi
+	npm ci --prefix tests/web --no-audit --no-fund --loglevel=error
 
 $(BUILD_DIR)/release/CMakeCache.txt: | deps
 	cmake -S . -B $(BUILD_DIR)/release $(GENERATOR) -DCMAKE_BUILD_TYPE=Release
@@ -49,12 +75,12 @@ build: deps $(BUILD_DIR)/release/CMakeCache.txt
 # Builds the release binary and serves the dashboard and the API on http://127.0.0.1:8080 with
 # its SQLite store in ./data (Ctrl-C stops it gracefully). BRISANCE_* variables configure it
 # (docs/service.md).
-run: build
+run: build web
 	$(BUILD_DIR)/release/cli/brisance serve --data data
 
 # The whole test suite, built with AddressSanitizer + UndefinedBehaviorSanitizer and warnings as
 # errors, run through CTest.
-test: deps gltf-validator
+test: deps gltf-validator web web-test-deps
 	cmake -S . -B $(BUILD_DIR)/sanitize $(GENERATOR) -DCMAKE_BUILD_TYPE=Sanitize -DBRISANCE_WERROR=ON
 	cmake --build $(BUILD_DIR)/sanitize -j $(JOBS)
 	cd $(BUILD_DIR)/sanitize && ctest --output-on-failure -j $(JOBS)
@@ -78,4 +104,4 @@ format:
 	git ls-files '*.cpp' '*.hpp' | xargs clang-format -i
 
 clean:
-	rm -rf $(BUILD_DIR)
+	rm -rf $(BUILD_DIR) web/dist

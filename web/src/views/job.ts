@@ -1,0 +1,141 @@
+// #/jobs/ID: the job's state, long-polled (`?wait=25` with If-None-Match: the server answers as
+// soon as the job changes), its stats, warnings and error, the downloads and the actions.
+import { client, describe, isAbort, type Job, ProblemError, type ResultSummary, type RunStats } from "../api";
+import { download, h, mount, sleep } from "../dom";
+import { dateTime, finished, num, queuedFor, ranFor, seconds } from "../format";
+import type { View } from "../view";
+import { badge, errorBox, progressBar } from "../widgets";
+
+// Labels of the run statistics; a field the server adds later is shown under its own name.
+const STAT_LABELS: Record<string, string> = {
+  steps: "Time steps", simulated_time_s: "Simulated time (s)", wall_time_s: "Wall time (s)",
+  ended_early: "Ended early (all at rest)", bodies: "Bodies", bodies_anchored: "Anchored",
+  bodies_never_released: "Never released (held by friction)", bodies_slept: "Slept",
+  bodies_static_in_frames: "Stored once (static)", panels: "Load panels", panels_loaded: "Panels loaded",
+  panels_back_facing: "Panels back-facing", panels_not_reached: "Panels not reached",
+  body_steps: "Body steps", occlusion_skipped: "Occlusion skipped",
+};
+
+function statsTable(stats: RunStats): HTMLElement {
+  const entries = Object.entries(stats as unknown as Record<string, unknown>)
+    .filter(([, value]) => typeof value === "number" || typeof value === "boolean");
+  return h("table", { class: "kv", id: "job-stats" }, h("tbody", null, entries.map(([key, value]) =>
+    h("tr", null, h("th", null, STAT_LABELS[key] ?? key.replaceAll("_", " ")),
+      h("td", { class: "num" }, typeof value === "number" ? num(value, 4) : value ? "yes" : "no")))));
+}
+
+function infoTable(job: Job): HTMLElement {
+  const rows: [string, string | number][] = [
+    ["Submitted", dateTime(job.created_at)],
+    ["Started", dateTime(job.started_at)],
+    ["Finished", dateTime(job.finished_at)],
+    ["Queued for", seconds(queuedFor(job))],
+    ["Run time", seconds(ranFor(job))],
+    ["Priority", job.priority],
+    ["Attempts", job.attempts],
+  ];
+  return h("table", { class: "kv" }, h("tbody", null, rows.map(([k, v]) => h("tr", null, h("th", null, k), h("td", null, v)))));
+}
+
+export const jobView: View = (root, route, signal) => {
+  const id = route.id;
+  const header = h("div", { class: "job-header" });
+  const body = h("div", { id: "job-body" }, h("p", { class: "muted" }, "Loading…"));
+  const actionMessage = h("p", { class: "muted", id: "action-message", role: "status" });
+  const warnings = h("div", { id: "job-warnings" });
+  mount(root, h("p", null, h("a", { href: "#/jobs" }, "← Jobs")), header, actionMessage, body, warnings);
+
+  let resultLoaded = false;
+
+  async function act(what: string, run: () => Promise<unknown>): Promise<void> {
+    actionMessage.textContent = `${what}…`;
+    try {
+      await run();
+      actionMessage.textContent = `${what}: done.`;
+    } catch (error) {
+      actionMessage.textContent = `${what} failed: ${describe(error)}`;
+    }
+  }
+
+  function actions(job: Job): HTMLElement {
+    const ok = job.status === "succeeded";
+    return h("div", { class: "actions" },
+      ok ? h("a", { class: "button primary", href: `#/jobs/${id}/player`, id: "open-player" }, "Open 3D player") : null,
+      ok ? h("button", { type: "button", id: "download-glb", onclick: () => act("Downloading result.glb", async () =>
+        download(await client.getGlb(id, { signal }), `${id}.glb`, "model/gltf-binary")) }, "Download .glb") : null,
+      ok ? h("button", { type: "button", id: "download-frames", onclick: () => act("Downloading frames", async () =>
+        download(JSON.stringify(await client.getFrames(id, {}, { signal })), `${id}-frames.json`, "application/json")) },
+        "Download frames (JSON)") : null,
+      ok ? h("button", { type: "button", onclick: () => act("Downloading result summary", async () =>
+        download(JSON.stringify(await client.getResult(id, { signal }), null, 2), `${id}-result.json`, "application/json")) },
+        "Download result (JSON)") : null,
+      h("button", { type: "button", onclick: () => act("Downloading scene", async () =>
+        download(JSON.stringify(await client.getScene(id, { signal }), null, 2), `${id}-scene.json`, "application/json")) },
+        "Download scene"),
+      !finished(job) ? h("button", { type: "button", id: "cancel-job", onclick: () => act("Cancelling", () => client.cancelJob(id)) },
+        job.cancel_requested ? "Stopping…" : "Cancel") : null,
+      h("button", { type: "button", class: "danger", id: "delete-job", onclick: () => {
+        if (!confirm(`Delete job ${id} and its result?`)) return;
+        void act("Deleting", async () => { await client.deleteJob(id); location.hash = "#/jobs"; });
+      } }, "Delete"));
+  }
+
+  function render(job: Job): void {
+    mount(header, h("h1", null, "Job ", h("code", null, job.id), " ", badge(job.status)),
+          progressBar(job, true), actions(job));
+    mount(body,
+      h("div", { class: "columns" },
+        h("section", null, h("h2", null, "State"), infoTable(job)),
+        job.stats ? h("section", null, h("h2", null, "Run statistics"), statsTable(job.stats)) : null),
+      job.error ? h("section", { class: "error-box", id: "job-error" },
+        h("h2", null, "Error ", h("code", null, job.error.type)), h("pre", null, job.error.message)) : null);
+    if (job.status === "succeeded" && !resultLoaded) {
+      resultLoaded = true;
+      void loadResult();
+    }
+  }
+
+  async function loadResult(): Promise<void> {
+    try {
+      const result: ResultSummary = await client.getResult(id, { signal });
+      mount(warnings,
+        h("h2", null, "Warnings"),
+        result.warnings.length === 0 ? h("p", { class: "muted" }, "None.") :
+          h("ul", { class: "warnings" }, result.warnings.map((w) =>
+            h("li", null, h("code", null, w.code), ` ×${w.count}: ${w.message}`))),
+        h("h2", null, "Result"),
+        h("p", null, `${result.bodies.length} bodies, ${result.animated.length} moving; ` +
+                     `${result.frame_count} frames over ${num(result.duration, 4)} s.`));
+    } catch (error) {
+      if (!isAbort(error)) mount(warnings, errorBox(error));
+    }
+  }
+
+  // The long-poll: ask for the job with the tag we have and `wait=25`; the server answers when
+  // it changes (200) or after 25 s (304). Stops once the job has finished.
+  void (async () => {
+    let etag: string | null = null;
+    let failures = 0;
+    while (!signal.aborted) {
+      try {
+        const answer = await client.getJob(id, { etag, wait: etag ? 25 : 0, signal });
+        failures = 0;
+        if (answer.modified) {
+          etag = answer.etag;
+          render(answer.value);
+          if (finished(answer.value)) return;
+        }
+      } catch (error) {
+        if (isAbort(error) || signal.aborted) return;
+        if (error instanceof ProblemError && error.status === 404) {
+          mount(header, h("h1", null, "Job ", h("code", null, id)));
+          mount(body, h("p", { class: "error" }, "No such job: it was never made, was deleted, or was pruned."));
+          return;
+        }
+        failures++;
+        mount(actionMessage, errorBox(error));
+        await sleep(Math.min(30_000, 1000 * 2 ** failures), signal);
+      }
+    }
+  })();
+};

@@ -1,0 +1,64 @@
+// #/jobs[?status=S]: one page of jobs at a time, newest first, filtered by status; the page on
+// screen is polled with If-None-Match (a 304 while it is unchanged).
+import { client, type JobList, type JobStatus } from "../api";
+import { h, mount } from "../dom";
+import { poll } from "../poll";
+import type { View } from "../view";
+import { errorBox, jobsTable, STATUSES } from "../widgets";
+
+const PAGE_SIZE = 20;
+
+export const jobsView: View = (root, route, signal) => {
+  const statusParam = route.query.get("status");
+  const status = STATUSES.find((s) => s === statusParam) as JobStatus | undefined;
+  // Cursors of the pages before this one, so "Previous" can go back (the API pages forwards).
+  const cursors: number[] = [];
+  let cursor = 0;
+  let nextCursor: string | null = null;
+  let pageSignal: AbortController | null = null;
+
+  const filter = h("select", { id: "status-filter", "aria-label": "Filter by status",
+                               onchange: (e: Event) => {
+    const value = (e.target as HTMLSelectElement).value;
+    location.hash = value ? `#/jobs?status=${value}` : "#/jobs";
+  } }, h("option", { value: "" }, "all statuses"),
+     STATUSES.map((s) => h("option", { value: s, selected: s === status }, s)));
+  const table = h("div", { id: "jobs-table" }, h("p", { class: "muted" }, "Loading…"));
+  const prev = h("button", { type: "button", id: "prev-page", disabled: true,
+                             onclick: () => { cursor = cursors.pop() ?? 0; load(); } }, "← Newer");
+  const next = h("button", { type: "button", id: "next-page", disabled: true,
+                             onclick: () => {
+    if (nextCursor === null) return;
+    cursors.push(cursor);
+    cursor = Number(nextCursor);
+    load();
+  } }, "Older →");
+  const pageLabel = h("span", { class: "muted", id: "page-label" });
+
+  mount(root, h("h1", null, "Jobs"),
+        h("div", { class: "toolbar" }, h("label", null, "Status ", filter), h("span", { class: "grow" }),
+          pageLabel, prev, next),
+        table);
+
+  function load(): void {
+    pageSignal?.abort();
+    const controller = new AbortController();
+    pageSignal = controller;
+    signal.addEventListener("abort", () => controller.abort(), { once: true });
+    pageLabel.textContent = `page ${cursors.length + 1}`;
+    prev.disabled = cursors.length === 0;
+    void poll<JobList>({
+      fetch: (etag, s) => client.listJobs({ limit: PAGE_SIZE, cursor, ...(status ? { status } : {}) },
+                                          { etag, signal: s }),
+      onValue: (list) => {
+        nextCursor = list.next_cursor;
+        next.disabled = nextCursor === null;
+        mount(table, jobsTable(list.jobs));
+      },
+      onError: (error) => mount(table, errorBox(error)),
+      intervalMs: 2000,
+      signal: controller.signal,
+    });
+  }
+  load();
+};

@@ -49,6 +49,54 @@ struct Stats {
   std::uint64_t panels_not_reached = 0;  // the wave arrived after the run ended
   std::uint64_t body_steps = 0;          // bodies integrated, summed over steps
   bool occlusion_skipped = true;         // no occlusion pass ran
+  std::uint64_t panes_broken = 0;        // breakable panes cut into fragments
+  std::uint64_t panes_not_broken = 0;    // stress below strength: no fracture work at all
+  std::uint64_t fragments = 0;           // fragment bodies made
+};
+
+// Mean and percentiles of a per-fragment quantity (nearest-rank percentiles); all zero when
+// there is nothing to summarise.
+struct Distribution {
+  std::uint64_t count = 0;
+  double mean = 0.0;
+  double min = 0.0;
+  double p10 = 0.0;
+  double p50 = 0.0;
+  double p90 = 0.0;
+  double max = 0.0;
+};
+
+// One breakable pane: the blast coupling (DESIGN.md decision 9) and its fragments.
+struct PaneReport {
+  std::string name;  // the pane object's name; its fragments are "<name>/f<k>"
+  bool broken = false;
+  bool forced = false;            // fracture.break = always: broken whatever the stress
+  double peak_pressure_pa = 0.0;  // peak reflected overpressure at the pane's centre
+  double stress_pa = 0.0;         // Roark table 11.4 case 1a bending stress under it
+  double strength_pa = 0.0;
+  double deflection_m = 0.0;             // the same plate's centre deflection
+  bool small_deflection = true;          // deflection <= thickness / 2: the plate formula applies
+  double critical_crack_length_m = 0.0;  // a_c of thesis eq. 5.5 at that stress (0: unbroken)
+  double growth_length_m = 0.0;          // the crack pattern's a_c (0: unbroken)
+  bool growth_length_given = false;      // set by fracture.growth_length
+  bool growth_length_clamped = false;    // eq. 5.5's scale hit the bit bucket's or pane's size
+  std::uint32_t first_body = 0;          // its fragments are bodies first_body ...
+  std::uint64_t fragment_count = 0;      //  ... first_body + fragment_count - 1
+  Distribution frontal_area_m2;          // of the fragments
+  // Speed of each released fragment right after its blast load ended (launch), m/s.
+  Distribution launch_speed_m_s;
+  // Mean launch speed of the larger and the smaller half of the released fragments by area
+  // (thesis §6.5: larger fragments fly faster when each clears from its own edges), m/s.
+  double launch_speed_larger_half_m_s = 0.0;
+  double launch_speed_smaller_half_m_s = 0.0;
+  std::uint64_t released = 0;
+  // Per fragment, in body order: when it broke free (s), or a negative value if it never did
+  // (held by the frame or the crack interlock; such fragments stay in place, static).
+  std::vector<double> release_times_s;
+  Distribution release_time_s;  // of the released ones
+  // Empirical window-glass fragments at the same peak pressure (thesis eqs. 2.45, 2.46).
+  double empirical_mean_area_m2 = 0.0;
+  double empirical_mean_speed_m_s = 0.0;
 };
 
 // A counted warning: numerical trouble or input at the edge of the model, never silent.
@@ -68,6 +116,7 @@ struct Result {
   std::vector<FinalState> final_state;  // one per body, in body order
   Stats stats;
   std::vector<Warning> warnings;
+  std::vector<PaneReport> fracture;  // one per breakable pane, in scene order
 
   const Pose& pose(std::size_t frame, std::size_t animated_index) const {
     return poses[frame * animated.size() + animated_index];

@@ -11,6 +11,7 @@
 #include "sim/blast/panel_load.hpp"
 #include "sim/blast/reflection.hpp"
 #include "sim/dynamics/rigid_body.hpp"
+#include "sim/engine/panes.hpp"
 #include "sim/geometry/mesh.hpp"
 
 namespace brisance::engine {
@@ -58,6 +59,10 @@ struct Model {
   std::vector<std::uint8_t>
       supported;  // held on other bodies: friction resists its loads (eq. 2.40)
   std::vector<Motion> initial_motion;
+  // Fragments of broken panes (thesis §6.7): per body, the index into `fragments` or -1, and
+  // the earliest time it may break free (the wave's arrival at its centroid; 0 for others).
+  std::vector<std::int32_t> fragment_of;
+  std::vector<double> release_not_before_s;
   std::vector<PanelModel> panels;
   std::vector<ChargeModel> charges;
   std::vector<PanelEvent> events;  // ascending arrival time
@@ -331,7 +336,7 @@ void share_clearing_across_surfaces(const scene::Scene& scene, Model& model) {
         std::max(model.panels[p].clearing_distance_m, half_size[find(p)]);
 }
 
-Model prepare(const scene::Scene& scene, Stats& stats) {
+Model prepare(const scene::Scene& scene, const BrokenScene& broken, Stats& stats) {
   Model model;
   const scene::SimulationSpec& sim = scene.simulation;
   model.simulation = &scene.simulation;
@@ -352,7 +357,12 @@ Model prepare(const scene::Scene& scene, Stats& stats) {
 
   for (const scene::ObjectSpec& object : scene.objects) {
     const auto index = static_cast<std::uint32_t>(model.bodies.size());
-    const geometry::MassProperties unit = geometry::mass_properties(object.mesh, 1.0);
+    const std::int32_t fragment_index = broken.changed ? broken.fragment_of[index] : -1;
+    const FragmentBody* fragment =
+        fragment_index >= 0 ? &broken.fragments[static_cast<std::size_t>(fragment_index)] : nullptr;
+    // Fragments: the prism's mass properties in closed form (thesis §§6.3-6.4).
+    const geometry::MassProperties unit =
+        fragment ? fragment->unit_mass : geometry::mass_properties(object.mesh, 1.0);
     const double density = object.mass_kg / unit.volume_m3;
     dynamics::BodyModel body;
     body.mass_kg = object.mass_kg;
@@ -366,9 +376,12 @@ Model prepare(const scene::Scene& scene, Stats& stats) {
         body.hull_points.push_back(p);
       body.bounding_radius_m = std::max(body.bounding_radius_m, p.norm());
     }
+    // Fragments are loaded on at least five panels per face (thesis §6.2); their drag shape
+    // comes from their faces and side walls.
     const std::vector<geometry::Panel> panels =
-        geometry::make_panels(object.mesh, sim.max_panel_area_m2);
-    body.drag_shape = drag_shape_from(panels);
+        fragment ? fragment->load_panels
+                 : geometry::make_panels(object.mesh, sim.max_panel_area_m2);
+    body.drag_shape = drag_shape_from(fragment ? fragment->drag_panels : panels);
     stats.panels += panels.size();
     if (!object.anchored) {
       for (const geometry::Panel& panel : panels)
@@ -378,21 +391,25 @@ Model prepare(const scene::Scene& scene, Stats& stats) {
     }
     model.bodies.push_back(std::move(body));
     model.centre_of_mass.push_back(unit.centre_of_mass);
-    const double hold = object.friction * normal_force[index];
+    // A fragment is held by its own hold (the frame, the crack interlock) until the wave reaches
+    // it, whatever its weight; other bodies by friction on what they rest on.
+    const double hold = fragment ? fragment->hold_n : object.friction * normal_force[index];
     model.hold_force_n.push_back(hold);
     Motion motion = Motion::held;
     if (object.anchored) {
       motion = Motion::anchored;
       ++stats.bodies_anchored;
-    } else if (hold <= 0.0 && gravity > 0.0) {
+    } else if (!fragment && hold <= 0.0 && gravity > 0.0) {
       motion = Motion::awake;  // nothing holds it: it falls from the start
     }
     model.initial_motion.push_back(motion);
+    model.fragment_of.push_back(fragment_index);
+    model.release_not_before_s.push_back(fragment ? fragment->arrival_time_s : 0.0);
     // Friction from the ground is the contact's job once the body moves; the hold's eq. 2.40
-    // friction is for bodies resting on other bodies.
+    // friction is for bodies resting on other bodies. A fragment's hold breaks once and for all.
     const bool on_ground =
         model.ground && world_box(object).min.y() <= model.ground->height_m + 5e-3;
-    model.supported.push_back(motion == Motion::held && !on_ground);
+    model.supported.push_back(!fragment && motion == Motion::held && !on_ground);
   }
 
   for (const scene::ChargeSpec& charge : scene.charges) {
@@ -403,7 +420,17 @@ Model prepare(const scene::Scene& scene, Stats& stats) {
     model.charges.push_back(ChargeModel{charge.position, c});
   }
 
-  if (sim.clearing) share_clearing_across_surfaces(scene, model);
+  if (sim.clearing) {
+    // Fragments keep the clearing distance their pane chose (their own edges, thesis §6.5, or
+    // the pane's): their faces are coplanar and touch, but the sharing must not merge them.
+    std::vector<double> own(model.panels.size());
+    for (std::size_t p = 0; p < model.panels.size(); ++p)
+      own[p] = model.panels[p].clearing_distance_m;
+    share_clearing_across_surfaces(scene, model);
+    for (std::size_t p = 0; p < model.panels.size(); ++p)
+      if (model.fragment_of[model.panels[p].body] >= 0)
+        model.panels[p].clearing_distance_m = own[p];
+  }
 
   // Events: every panel that faces a charge; a panel facing none is never loaded.
   for (std::uint32_t p = 0; p < model.panels.size(); ++p) {
@@ -453,11 +480,14 @@ class Run {
       : scene_(scene), model_(model), result_(result), warnings_(warnings) {}
 
   bool execute(const RunHooks& hooks);
+  const std::vector<double>& release_times_s() const { return release_time_s_; }
+  const std::vector<double>& launch_speeds_m_s() const { return launch_speed_m_s_; }
+  double speed_m_s(std::size_t body) const { return states_[body].velocity.norm(); }
 
  private:
   void activate(const PanelEvent& event);
   void apply_loads(double t0, double t1);
-  void release_held(double t1);
+  void release_held(double t0, double t1);
   void integrate_awake(double dt);
   double next_step(double t, double until) const;
   void record_frame();
@@ -482,6 +512,9 @@ class Run {
   // released does not depend on the step size.
   std::vector<Vec3> peak_force_;
   std::vector<double> loaded_from_s_;
+  // Fragments: when each broke free and its speed once its blast load ended (launch), or -1.
+  std::vector<double> release_time_s_;
+  std::vector<double> launch_speed_m_s_;
   std::vector<ActiveLoad> active_;
   std::size_t next_event_ = 0;
   std::vector<std::uint32_t> candidates_;      // bodies that may move (all but anchored)
@@ -568,7 +601,7 @@ void Run::apply_loads(double t0, double t1) {
   active_.resize(kept);
 }
 
-void Run::release_held(double t1) {
+void Run::release_held(double t0, double t1) {
   for (std::uint32_t body : loaded_bodies_) {
     if (motion_[body] == Motion::asleep) {
       motion_[body] = Motion::awake;  // a later wave wakes a resting body
@@ -577,11 +610,15 @@ void Run::release_held(double t1) {
     const double hold = model_.hold_force_n[body];  // mu N, N
     dynamics::StepLoads& loads = loads_[body];
     if (motion_[body] == Motion::held) {
-      if (peak_force_[body].norm() <= hold) {
+      // A fragment breaks free once the wave has reached its centroid and its load beats its
+      // hold (thesis §6.7); the loads of its panels reached earlier are taken by the hold.
+      const double not_before = model_.release_not_before_s[body];
+      if (t1 < not_before || peak_force_[body].norm() <= hold) {
         loads = dynamics::StepLoads{};  // static friction takes the whole load
         continue;
       }
       motion_[body] = Motion::awake;
+      if (model_.fragment_of[body] >= 0) release_time_s_[body] = std::max(t0, not_before);
     }
     // Thesis eq. 2.40, M x'' + R = F(t) with R = mu N: while the wave pushes a body off its
     // support, friction takes mu N of the push from the load's arrival on, so the body gains the
@@ -627,6 +664,8 @@ void Run::integrate_awake(double dt) {
     }
     moved_[b] = 1;
     ++body_steps;
+    if (!is_loaded_[b] && launch_speed_m_s_[b] < 0.0 && model_.fragment_of[b] >= 0)
+      launch_speed_m_s_[b] = state.velocity.norm();
     // Squared speeds, roots only where needed: the largest root is the root of the largest.
     const double angular_squared = omega.squaredNorm();
     if (!model_.ground) {
@@ -716,6 +755,8 @@ bool Run::execute(const RunHooks& hooks) {
   peak_force_.assign(bodies, Vec3::Zero());
   loaded_from_s_.assign(bodies, 0.0);
   loads_.assign(bodies, dynamics::StepLoads{});
+  release_time_s_.assign(bodies, -1.0);
+  launch_speed_m_s_.assign(bodies, -1.0);
   panel_loaded_.assign(model_.panels.size(), 0);
   for (std::uint32_t b = 0; b < bodies; ++b)
     if (motion_[b] != Motion::anchored) candidates_.push_back(b);
@@ -743,7 +784,7 @@ bool Run::execute(const RunHooks& hooks) {
     while (next_event_ < model_.events.size() && model_.events[next_event_].arrival_time_s < t1)
       activate(model_.events[next_event_++]);
     apply_loads(t, t1);
-    release_held(t1);
+    release_held(t, t1);
     integrate_awake(dt);
     ++result_.stats.steps;
     t = t1;
@@ -809,14 +850,88 @@ bool Run::execute(const RunHooks& hooks) {
   return true;
 }
 
+Distribution distribution_of(std::vector<double> values) {
+  Distribution d;
+  if (values.empty()) return d;
+  std::sort(values.begin(), values.end());
+  d.count = values.size();
+  double sum = 0.0;
+  for (double v : values)
+    sum += v;
+  d.mean = sum / static_cast<double>(values.size());
+  // Nearest rank: the smallest value with at least p of the values at or below it.
+  const auto rank = [&](double p) {
+    const auto k = static_cast<std::size_t>(std::ceil(p * static_cast<double>(values.size())));
+    return values[std::max<std::size_t>(k, 1) - 1];
+  };
+  d.min = values.front();
+  d.p10 = rank(0.1);
+  d.p50 = rank(0.5);
+  d.p90 = rank(0.9);
+  d.max = values.back();
+  return d;
+}
+
+// Fragment statistics of every broken pane, once the run is over.
+void report_fragments(const BrokenScene& broken, const Run& run, std::vector<PaneReport>& panes) {
+  for (PaneReport& pane : panes) {
+    if (!pane.broken) continue;
+    std::vector<double> areas;
+    std::vector<double> releases;
+    std::vector<std::pair<double, double>> launched;  // area, launch speed
+    for (std::uint32_t b = pane.first_body; b < pane.first_body + pane.fragment_count; ++b) {
+      const FragmentBody& fragment =
+          broken.fragments[static_cast<std::size_t>(broken.fragment_of[b])];
+      areas.push_back(fragment.frontal_area_m2);
+      const double release = run.release_times_s()[b];
+      pane.release_times_s.push_back(release);
+      if (release < 0.0) continue;
+      releases.push_back(release);
+      // Still loaded when the run ended: its speed then.
+      const double launch = run.launch_speeds_m_s()[b];
+      launched.emplace_back(fragment.frontal_area_m2, launch >= 0.0 ? launch : run.speed_m_s(b));
+    }
+    pane.released = releases.size();
+    pane.frontal_area_m2 = distribution_of(std::move(areas));
+    pane.release_time_s = distribution_of(std::move(releases));
+    std::vector<double> speeds;
+    for (const auto& [area, speed] : launched)
+      speeds.push_back(speed);
+    pane.launch_speed_m_s = distribution_of(std::move(speeds));
+    std::sort(launched.begin(), launched.end());
+    const std::size_t half = launched.size() / 2;
+    double small = 0.0;
+    double large = 0.0;
+    for (std::size_t i = 0; i < launched.size(); ++i)
+      (i < half ? small : large) += launched[i].second;
+    if (half > 0) pane.launch_speed_smaller_half_m_s = small / static_cast<double>(half);
+    if (launched.size() > half)
+      pane.launch_speed_larger_half_m_s = large / static_cast<double>(launched.size() - half);
+  }
+}
+
 }  // namespace
 
-RunOutcome simulate(const scene::Scene& scene, const RunHooks& hooks) {
+RunOutcome simulate(const scene::Scene& input_scene, const RunHooks& hooks) {
   const auto start = std::chrono::steady_clock::now();
   RunOutcome outcome;
   Result& result = outcome.result;
   WarningLog warnings;
-  const Model model = prepare(scene, result.stats);
+  // Breakable panes first: a broken pane is replaced by its fragments (DESIGN.md decision 9).
+  const BrokenScene broken = break_panes(input_scene);
+  const scene::Scene& scene = broken.effective(input_scene);
+  for (const auto& [code, message] : broken.warnings)
+    warnings.add(code, message);
+  result.fracture = broken.reports;
+  for (const PaneReport& pane : result.fracture) {
+    if (pane.broken) {
+      ++result.stats.panes_broken;
+      result.stats.fragments += pane.fragment_count;
+    } else {
+      ++result.stats.panes_not_broken;
+    }
+  }
+  const Model model = prepare(scene, broken, result.stats);
   result.stats.bodies = model.bodies.size();
   if (scene.simulation.occlusion == scene::OcclusionMode::on)
     warnings.add("occlusion_unavailable",
@@ -837,6 +952,7 @@ RunOutcome simulate(const scene::Scene& scene, const RunHooks& hooks) {
 
   Run run(scene, model, result, warnings);
   outcome.cancelled = !run.execute(hooks);
+  if (!outcome.cancelled) report_fragments(broken, run, result.fracture);
   result.warnings = warnings.list();
   result.stats.wall_time_s =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -141,7 +141,8 @@ json stats_to_json(const engine::Stats& stats) {
   // written too, so "stats" always holds every field.
   const auto& [steps, simulated_time_s, wall_time_s, ended_early, bodies, bodies_anchored,
                bodies_never_released, bodies_slept, bodies_static_in_frames, panels, panels_loaded,
-               panels_back_facing, panels_not_reached, body_steps, occlusion_skipped] = stats;
+               panels_back_facing, panels_not_reached, body_steps, occlusion_skipped, panes_broken,
+               panes_not_broken, fragments] = stats;
   return json{{"steps", steps},
               {"simulated_time_s", simulated_time_s},
               {"wall_time_s", wall_time_s},
@@ -156,7 +157,52 @@ json stats_to_json(const engine::Stats& stats) {
               {"panels_back_facing", panels_back_facing},
               {"panels_not_reached", panels_not_reached},
               {"body_steps", body_steps},
-              {"occlusion_skipped", occlusion_skipped}};
+              {"occlusion_skipped", occlusion_skipped},
+              {"panes_broken", panes_broken},
+              {"panes_not_broken", panes_not_broken},
+              {"fragments", fragments}};
+}
+
+json distribution_to_json(const engine::Distribution& d) {
+  return json{{"count", d.count}, {"mean", d.mean}, {"min", d.min}, {"p10", d.p10},
+              {"p50", d.p50},     {"p90", d.p90},   {"max", d.max}};
+}
+
+json pane_to_json(const engine::PaneReport& pane) {
+  // Never-released fragments are null in release_times_s.
+  json release_times = json::array();
+  for (const double t : pane.release_times_s)
+    release_times.push_back(t >= 0.0 ? json(t) : json(nullptr));
+  return json{{"name", pane.name},
+              {"broken", pane.broken},
+              {"forced", pane.forced},
+              {"peak_pressure_pa", pane.peak_pressure_pa},
+              {"stress_pa", pane.stress_pa},
+              {"strength_pa", pane.strength_pa},
+              {"deflection_m", pane.deflection_m},
+              {"small_deflection", pane.small_deflection},
+              {"critical_crack_length_m", pane.critical_crack_length_m},
+              {"growth_length_m", pane.growth_length_m},
+              {"growth_length_given", pane.growth_length_given},
+              {"growth_length_clamped", pane.growth_length_clamped},
+              {"first_body", pane.first_body},
+              {"fragment_count", pane.fragment_count},
+              {"frontal_area_m2", distribution_to_json(pane.frontal_area_m2)},
+              {"launch_speed_m_s", distribution_to_json(pane.launch_speed_m_s)},
+              {"launch_speed_larger_half_m_s", pane.launch_speed_larger_half_m_s},
+              {"launch_speed_smaller_half_m_s", pane.launch_speed_smaller_half_m_s},
+              {"released", pane.released},
+              {"release_times_s", std::move(release_times)},
+              {"release_time_s", distribution_to_json(pane.release_time_s)},
+              {"empirical_mean_area_m2", pane.empirical_mean_area_m2},
+              {"empirical_mean_speed_m_s", pane.empirical_mean_speed_m_s}};
+}
+
+json fracture_to_json(const std::vector<engine::PaneReport>& panes) {
+  json list = json::array();
+  for (const engine::PaneReport& pane : panes)
+    list.push_back(pane_to_json(pane));
+  return list;
 }
 
 json result_to_json(const engine::Result& result) {
@@ -176,11 +222,10 @@ json result_to_json(const engine::Result& result) {
   for (const engine::Warning& warning : result.warnings)
     warnings.push_back(warning_to_json(warning));
 
-  return json{{"bodies", std::move(bodies)},
-              {"frames", std::move(frames)},
-              {"final_state", std::move(final_state)},
-              {"stats", stats_to_json(result.stats)},
-              {"warnings", std::move(warnings)}};
+  return json{
+      {"bodies", std::move(bodies)},           {"frames", std::move(frames)},
+      {"final_state", std::move(final_state)}, {"fracture", fracture_to_json(result.fracture)},
+      {"stats", stats_to_json(result.stats)},  {"warnings", std::move(warnings)}};
 }
 
 // The same text as result_to_json(result).dump() and a newline, written element by element:
@@ -198,6 +243,7 @@ void write_result_json(const engine::Result& result, std::ostream& out) {
   out << ",\"final_state\":";
   stream_array(out, result.final_state.size(),
                [&](std::size_t i) { return final_state_to_json(result.final_state[i]); });
+  out << ",\"fracture\":" << fracture_to_json(result.fracture).dump();
   out << ",\"frames\":[";
   json numbers = json::array();
   numbers.get_ref<json::array_t&>().reserve(1 + 8 * result.animated.size());

@@ -5,6 +5,7 @@
 //               "animated": bool, "position": [x,y,z], "orientation": [x,y,z,w]}],
 //   "frames": [{"time": t, "bodies": [{"index": i, "position": [..], "orientation": [..]}]}],
 //   "final_state": [{"name", "position", "orientation", "linear_velocity", "angular_velocity"}],
+//   "fracture": [{"name", "broken", "peak_pressure_pa", "stress_pa", ..., "release_times_s"}],
 //   "stats": {...every Stats field...},
 //   "warnings": [{"code", "message", "count"}]
 // }
@@ -13,6 +14,7 @@
 #pragma once
 
 #include <iosfwd>
+#include <vector>
 
 #include <nlohmann/json_fwd.hpp>
 
@@ -24,6 +26,10 @@ nlohmann::json result_to_json(const engine::Result& result);
 nlohmann::json stats_to_json(const engine::Stats& stats);
 nlohmann::json final_state_to_json(const engine::FinalState& state);
 nlohmann::json warning_to_json(const engine::Warning& warning);
+nlohmann::json distribution_to_json(const engine::Distribution& distribution);
+nlohmann::json pane_to_json(const engine::PaneReport& pane);
+// One entry per breakable pane (engine::Result::fracture); an empty array without panes.
+nlohmann::json fracture_to_json(const std::vector<engine::PaneReport>& panes);
 void write_result_json(const engine::Result& result, std::ostream& out);
 
 }  // namespace brisance::io

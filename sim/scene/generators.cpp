@@ -124,4 +124,44 @@ std::vector<ObjectSpec> blocks(const BlocksParams& params) {
   return boxes;
 }
 
+std::vector<ObjectSpec> window(const WindowParams& params) {
+  assert(params.width_m > 0.0 && params.height_m > 0.0 && params.thickness_m > 0.0);
+  std::vector<ObjectSpec> objects;
+  const Vec3 pane_size(params.width_m, params.height_m, params.thickness_m);
+  ObjectSpec pane =
+      make_box_object(params.name + "/pane", pane_size, Vec3::Zero(), params.position,
+                      params.orientation, params.density_kg_m3 * pane_size.prod(), params.friction);
+  pane.material = params.material;
+  pane.fracture = params.fracture;
+  pane.fracture->framed = params.frame;
+  objects.push_back(std::move(pane));
+  if (!params.frame) return objects;
+  // Bottom and top bars run the full outer width; the sides fill the height between them.
+  const double w = params.width_m;
+  const double h = params.height_m;
+  const double f = params.frame_width_m;
+  const double d = params.frame_depth_m;
+  const Vec3 horizontal(w + 2.0 * f, f, d);
+  const Vec3 vertical(f, h, d);
+  const struct {
+    const char* name;
+    Vec3 size;
+    Vec3 centre;
+  } bars[] = {
+      {"bottom", horizontal, Vec3(0.0, -0.5 * (h + f), 0.0)},
+      {"top", horizontal, Vec3(0.0, 0.5 * (h + f), 0.0)},
+      {"left", vertical, Vec3(-0.5 * (w + f), 0.0, 0.0)},
+      {"right", vertical, Vec3(0.5 * (w + f), 0.0, 0.0)},
+  };
+  for (const auto& bar : bars) {
+    ObjectSpec object =
+        make_box_object(params.name + "/frame/" + bar.name, bar.size, bar.centre, params.position,
+                        params.orientation, params.frame_density_kg_m3 * bar.size.prod(), 0.4);
+    object.anchored = true;
+    object.material = "wood";
+    objects.push_back(std::move(object));
+  }
+  return objects;
+}
+
 }  // namespace brisance::scene

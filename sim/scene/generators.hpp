@@ -57,4 +57,29 @@ std::uint64_t blocks_count(const std::array<std::int64_t, 3>& counts);
 // The grid's boxes, x fastest, then z, then y (bottom layer first).
 std::vector<ObjectSpec> blocks(const BlocksParams& params);
 
+// A window: one breakable glass pane (thesis ch. 6), optionally in an anchored frame. In the
+// window's own frame the pane is centred on the origin, spans x (width) and y (height) and is
+// `thickness_m` deep along z, its front face +z; `orientation` turns it about its centre.
+// The frame, if any, is four anchored boxes of `frame_width_m` around the pane's edges, as deep
+// as `frame_depth_m`, named "<name>/frame/{bottom,top,left,right}"; the pane is "<name>/pane".
+struct WindowParams {
+  std::string name;
+  Vec3 position = Vec3::Zero();  // world position of the pane's centre, m
+  Quat orientation = Quat::Identity();
+  double width_m = 1.2;
+  double height_m = 0.9;
+  double thickness_m = 0.006;
+  std::string material = "annealed_glass";
+  double density_kg_m3 = 2500.0;
+  double friction = 0.9;
+  bool frame = true;
+  double frame_width_m = 0.05;
+  double frame_depth_m = 0.07;
+  double frame_density_kg_m3 = 500.0;  // wood
+  FractureSpec fracture;               // its `framed` follows `frame`
+};
+
+// The window's objects: the pane first, then the frame's four bars.
+std::vector<ObjectSpec> window(const WindowParams& params);
+
 }  // namespace brisance::scene

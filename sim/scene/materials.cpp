@@ -40,10 +40,33 @@ constexpr std::array kMaterials = {
              "density: Engineering ToolBox, Wood Species - Densities (pine); friction: "
              "Engineering ToolBox (wood on wood, 0.25-0.5)"},
     // Soda-lime silicate glass: 2500 kg/m^3 (EN 572-1; EN 1991-1-1 Annex A, "glass in sheets"
-    // 25 kN/m^3). Friction 0.9: glass on glass 0.9-1.0 (Engineering ToolBox).
+    // 25 kN/m^3). Friction 0.9: glass on glass 0.9-1.0 (Engineering ToolBox). Breakable panes
+    // (docs/fracture.md): "glass" is annealed float glass, as the thesis's window.
+    //  - Young's modulus 70 GPa: EN 572-1 §4 (physical characteristics of soda-lime silicate
+    //    glass: E = 7 x 10^10 Pa).
+    //  - Fracture toughness K_c = 0.75 MPa m^0.5: Wiederhorn, "Fracture surface energy of
+    //    glass", J. Am. Ceram. Soc. 52(2), 99-105 (1969), soda-lime glass. Tempering adds a
+    //    surface prestress, not toughness: the same K_c for both.
+    //  - Bending strength: annealed 45 MPa, the characteristic bending strength of float glass
+    //    (EN 572-1 §4; EN 16612 f_g,k); tempered 120 MPa, the characteristic bending strength of
+    //    thermally toughened soda-lime silicate safety glass made of float glass (EN 12150-1).
     Material{"glass", 2500.0, 0.9,
              "density: EN 572-1 (soda-lime silicate glass); friction: Engineering ToolBox (glass "
-             "on glass, 0.9-1.0)"},
+             "on glass, 0.9-1.0)",
+             70e9, 0.75e6, 45e6,
+             "annealed float glass: E EN 572-1; K_c Wiederhorn 1969; strength EN 572-1 (45 MPa)"},
+    Material{"annealed_glass", 2500.0, 0.9,
+             "density: EN 572-1 (soda-lime silicate glass); friction: Engineering ToolBox (glass "
+             "on glass, 0.9-1.0)",
+             70e9, 0.75e6, 45e6,
+             "E: EN 572-1 (70 GPa); K_c: Wiederhorn 1969 (0.75 MPa m^0.5); bending strength: "
+             "EN 572-1 / EN 16612 (45 MPa)"},
+    Material{"tempered_glass", 2500.0, 0.9,
+             "density: EN 572-1 (soda-lime silicate glass); friction: Engineering ToolBox (glass "
+             "on glass, 0.9-1.0)",
+             70e9, 0.75e6, 120e6,
+             "E: EN 572-1 (70 GPa); K_c: Wiederhorn 1969 (0.75 MPa m^0.5); bending strength: "
+             "EN 12150-1 (120 MPa)"},
     // Aluminium alloys: rho = 2700 kg/m^3 (EN 1999-1-1 §3.2.5). Friction 1.05: aluminium on
     // aluminium 1.05-1.35 (Engineering ToolBox), the lower end.
     Material{"aluminium", 2700.0, 1.05,

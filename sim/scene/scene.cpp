@@ -706,6 +706,93 @@ std::optional<geometry::TriangleMesh> parse_mesh(const Fields& shape, const Limi
   return mesh;
 }
 
+std::string breakable_material_names() {
+  std::vector<std::string> names;
+  for (const Material& material : known_materials())
+    if (material.strength_pa > 0.0) names.emplace_back(material.name);
+  return join(names);
+}
+
+// The `fracture` member of an object or a window generator. `material` is the object's, if any:
+// a breakable one supplies Young's modulus, K_c and the strength, which the fields may
+// override. `allow_framed`: objects say whether an anchored frame holds them; a window's
+// `frame` says it for its pane.
+std::optional<FractureSpec> parse_fracture(const json& value, const std::string& pointer,
+                                           const std::optional<Material>& material,
+                                           bool allow_framed, Errors& errors) {
+  if (!expect_object(value, pointer, "'fracture'", errors)) return std::nullopt;
+  const ErrorScope scope(errors);
+  std::initializer_list<std::string_view> known = {
+      "break",           "growth_length",  "pattern_scale",
+      "branch_angle",    "angle_variance", "wiggle_probability",
+      "wiggle_variance", "grid",           "seed",
+      "framed",          "bond_strength",  "frame_strength",
+      "frame_bite",      "clearing",       "strength",
+      "toughness",       "youngs_modulus"};
+  const Fields fields(value, pointer, errors, "'fracture'", known);
+  FractureSpec spec;
+  spec.trigger = fields.choice("break", 0, {"auto", "always"}) == 0
+                     ? FractureSpec::Trigger::automatic
+                     : FractureSpec::Trigger::always;
+  if (const json* growth = fields.get("growth_length"))
+    spec.growth_length_m = read_number(*growth, fields.at("growth_length"), "growth_length",
+                                       range(0.0, true, 10.0, false, "m"), errors);
+  spec.pattern_scale = fields.number("pattern_scale", spec.pattern_scale, positive());
+  spec.branch_angle_deg =
+      fields.number("branch_angle", spec.branch_angle_deg, range(5.0, false, 90.0, false, "deg"));
+  spec.angle_variance_deg = fields.number("angle_variance", spec.angle_variance_deg,
+                                          range(0.0, false, 90.0, false, "deg"));
+  spec.wiggle_probability =
+      fields.number("wiggle_probability", spec.wiggle_probability, range(0.0, false, 1.0, false));
+  spec.wiggle_variance_deg = fields.number("wiggle_variance", spec.wiggle_variance_deg,
+                                           range(0.0, false, 90.0, false, "deg"));
+  if (const json* grid = fields.get("grid")) {
+    if (auto cells = read_integer(*grid, fields.at("grid"), "grid", 16, 4096, errors))
+      spec.grid = static_cast<int>(*cells);
+  }
+  if (const json* seed = fields.get("seed")) {
+    if (auto seed_value = read_integer(*seed, fields.at("seed"), "seed", 0,
+                                       std::numeric_limits<std::int64_t>::max(), errors))
+      spec.seed = static_cast<std::uint64_t>(*seed_value);
+  }
+  if (const json* framed = fields.get("framed")) {
+    if (allow_framed) {
+      spec.framed = read_bool(*framed, fields.at("framed"), "framed", errors).value_or(false);
+    } else {
+      errors.add(fields.at("framed"),
+                 "a window's pane is framed by the generator's 'frame'; remove 'framed' here");
+    }
+  }
+  spec.bond_strength_pa = fields.number("bond_strength", spec.bond_strength_pa, non_negative("Pa"));
+  spec.frame_strength_pa =
+      fields.number("frame_strength", spec.frame_strength_pa, non_negative("Pa"));
+  spec.frame_bite_m = fields.number("frame_bite", spec.frame_bite_m, positive("m"));
+  spec.clearing = fields.choice("clearing", 0, {"fragment", "pane"}) == 0
+                      ? FractureSpec::Clearing::fragment
+                      : FractureSpec::Clearing::pane;
+  // The material's values, then the explicit ones.
+  const bool breakable = material && material->strength_pa > 0.0;
+  if (breakable) {
+    spec.youngs_modulus_pa = material->youngs_modulus_pa;
+    spec.fracture_toughness_pa_sqrt_m = material->fracture_toughness_pa_sqrt_m;
+    spec.strength_pa = material->strength_pa;
+  }
+  const bool all_given =
+      fields.get("strength") && fields.get("toughness") && fields.get("youngs_modulus");
+  if (!breakable && !all_given) {
+    errors.add(pointer, "a breakable object needs a breakable 'material' (" +
+                            breakable_material_names() +
+                            ") or all of 'strength' (Pa), 'toughness' (Pa m^0.5) and "
+                            "'youngs_modulus' (Pa) in 'fracture'");
+  }
+  spec.strength_pa = fields.number("strength", spec.strength_pa, positive("Pa"));
+  spec.fracture_toughness_pa_sqrt_m =
+      fields.number("toughness", spec.fracture_toughness_pa_sqrt_m, positive("Pa m^0.5"));
+  spec.youngs_modulus_pa = fields.number("youngs_modulus", spec.youngs_modulus_pa, positive("Pa"));
+  if (!scope.ok()) return std::nullopt;
+  return spec;
+}
+
 // One entry of `objects` or a generated object, with where it came from for error pointers.
 struct SceneObject {
   ObjectSpec spec;
@@ -818,9 +905,28 @@ std::optional<SceneObject> parse_object(const json& value, const std::string& po
   object.anchored = fields.boolean("anchored", false);
   object.blocks = fields.boolean("blocks", true);
   object.rotates = fields.boolean("rotates", true);
-  if (fields.get("fracture")) {
-    errors.add(fields.at("fracture"),
-               "fracture is not available in this build yet; remove 'fracture'");
+  if (const json* fracture = fields.get("fracture")) {
+    object.fracture = parse_fracture(*fracture, fields.at("fracture"), material, true, errors);
+    if (object.fracture && shape_ok) {
+      const Vec3& size = object.box_size_m;
+      if (object.shape != ShapeType::box) {
+        errors.add(fields.at("shape"),
+                   "a breakable object (with 'fracture') must be a box pane {\"type\": \"box\", "
+                   "\"size\": [width, height, thickness]}; use a box shape");
+      } else if (size.z() > size.x() || size.z() > size.y()) {
+        errors.add(child(child(fields.at("shape"), "size"), 2),
+                   "a breakable pane's thickness is size[2] and must be its smallest edge; got "
+                   "size [" +
+                       format_number(size.x()) + ", " + format_number(size.y()) + ", " +
+                       format_number(size.z()) +
+                       "]; give [width, height, thickness] and turn the pane with 'orientation'");
+      }
+    }
+    if (object.fracture && object.anchored) {
+      errors.add(fields.at("anchored"),
+                 "a breakable pane cannot be anchored (its fragments must fly); remove "
+                 "'anchored' and set 'fracture.framed' to hold its edges in a frame");
+    }
   }
   if (!scope.ok()) return std::nullopt;
   return SceneObject{std::move(object), fields.at("name"), fields.at("position"), std::nullopt};
@@ -838,11 +944,11 @@ std::vector<SceneObject> parse_generator(const json& value, const std::string& p
   const ErrorScope scope(errors);
   const json* type = member(value, "type");
   if (!type) {
-    errors.add(child(pointer, "type"), "'type' is required: one of brick_wall, blocks");
+    errors.add(child(pointer, "type"), "'type' is required: one of brick_wall, blocks, window");
     return {};
   }
-  const auto kind =
-      read_choice(*type, child(pointer, "type"), "type", {"brick_wall", "blocks"}, errors);
+  const auto kind = read_choice(*type, child(pointer, "type"), "type",
+                                {"brick_wall", "blocks", "window"}, errors);
   if (!kind) return {};
 
   const auto check_count = [&](std::uint64_t count) {
@@ -881,6 +987,69 @@ std::vector<SceneObject> parse_generator(const json& value, const std::string& p
     }
     if (!scope.ok() || !check_count(brick_wall_count(wall.rows, wall.columns))) return {};
     objects = brick_wall(wall);
+  } else if (*kind == 2) {
+    const Fields fields(value, pointer, errors, "a window generator",
+                        {"type", "name", "position", "orientation", "size", "thickness", "material",
+                         "frame", "frame_width", "frame_depth", "fracture"});
+    WindowParams window_params;
+    if (auto name = fields.required_name("name")) window_params.name = *name;
+    window_params.position = fields.vec3("position", Vec3::Zero(), any_number("m"));
+    window_params.orientation = fields.orientation("orientation");
+    if (const json* size = fields.require("size", "an array [width, height] of the pane, m")) {
+      const std::string at = fields.at("size");
+      if (!size->is_array() || size->size() != 2) {
+        errors.add(at, "'size' must be an array of 2 numbers [width, height], m, each > 0; got " +
+                           describe(*size));
+      } else {
+        const auto width = read_number((*size)[0], child(at, 0), "size[0]", positive("m"), errors);
+        const auto height = read_number((*size)[1], child(at, 1), "size[1]", positive("m"), errors);
+        if (width) window_params.width_m = *width;
+        if (height) window_params.height_m = *height;
+      }
+    }
+    window_params.thickness_m =
+        fields.number("thickness", window_params.thickness_m, range(0.0, true, 0.1, false, "m"));
+    if (window_params.thickness_m > std::min(window_params.width_m, window_params.height_m)) {
+      errors.add(fields.at("thickness"),
+                 "'thickness' must not exceed the pane's width and height; make it thinner");
+    }
+    std::optional<Material> material = find_material(window_params.material);
+    if (const json* name = fields.get("material")) {
+      const std::string at = fields.at("material");
+      std::optional<Material> found;
+      if (name->is_string()) found = find_material(name->get_ref<const std::string&>());
+      if (found && found->strength_pa > 0.0) {
+        material = found;
+      } else {
+        errors.add(at, "a window's 'material' must be a breakable material (" +
+                           breakable_material_names() + "); got " + describe(*name));
+      }
+    }
+    if (material) {
+      window_params.material = std::string(material->name);
+      window_params.density_kg_m3 = material->density_kg_m3;
+      window_params.friction = material->friction;
+    }
+    window_params.frame = fields.boolean("frame", true);
+    window_params.frame_width_m =
+        fields.number("frame_width", window_params.frame_width_m, positive("m"));
+    window_params.frame_depth_m =
+        fields.number("frame_depth", window_params.frame_depth_m, positive("m"));
+    if (window_params.frame_depth_m < window_params.thickness_m) {
+      errors.add(fields.at("frame_depth"), "'frame_depth' must be at least the pane's thickness " +
+                                               format_number(window_params.thickness_m) +
+                                               " m; make the frame deeper");
+    }
+    if (const json* fracture = fields.get("fracture")) {
+      if (auto spec = parse_fracture(*fracture, fields.at("fracture"), material, false, errors))
+        window_params.fracture = *spec;
+    } else if (material) {
+      window_params.fracture.youngs_modulus_pa = material->youngs_modulus_pa;
+      window_params.fracture.fracture_toughness_pa_sqrt_m = material->fracture_toughness_pa_sqrt_m;
+      window_params.fracture.strength_pa = material->strength_pa;
+    }
+    if (!scope.ok() || !check_count(window_params.frame ? 5 : 1)) return {};
+    objects = window(window_params);
   } else {
     const Fields fields(value, pointer, errors, "a blocks generator",
                         {"type", "name", "position", "orientation", "counts", "size", "spacing",

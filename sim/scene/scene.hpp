@@ -46,6 +46,41 @@ struct EnvironmentSpec {
 
 enum class ShapeType { box, mesh };
 
+// A breakable pane (DESIGN.md decision 9, thesis ch. 5–6): a box whose thickness is its local z
+// (size[2], the smallest edge), front face +z. In engine::prepare the peak reflected pressure
+// on the pane gives its bending stress; above the strength the pane is cut into fragments.
+struct FractureSpec {
+  enum class Trigger { automatic, always };
+  enum class Clearing { fragment, pane };
+  // automatic: break when the stress beats the strength; always: break whatever the pressure
+  // (artist control: the thesis decouples pattern and blast by choice, §6).
+  Trigger trigger = Trigger::automatic;
+  // Material, resolved from the object's material or given: Young's modulus, Pa; fracture
+  // toughness K_c, Pa m^0.5; bending strength, Pa.
+  double youngs_modulus_pa = 70e9;
+  double fracture_toughness_pa_sqrt_m = 0.75e6;
+  double strength_pa = 45e6;
+  // Crack pattern. growth_length_m, when given, overrides eq. 5.5's scale (artist control).
+  std::optional<double> growth_length_m;
+  double pattern_scale = 5000.0;  // growth length = pattern_scale x a_c (docs/fracture.md)
+  double branch_angle_deg = 25.0;
+  double angle_variance_deg = 34.5;
+  double wiggle_probability = 0.3;
+  double wiggle_variance_deg = 30.0;
+  int grid = 2048;                    // bit-bucket cells along the pane's longer side
+  std::optional<std::uint64_t> seed;  // default: from simulation.seed and the object
+  // Holds until release: the crack faces' interlock, Pa over the crack's area (length x
+  // thickness), and, for a pane in an anchored frame, the glazing along the frame, Pa over the
+  // edge length x frame_bite_m.
+  bool framed = false;
+  double bond_strength_pa = 1e3;
+  double frame_strength_pa = 138e3;
+  double frame_bite_m = 0.01;
+  // fragment: each fragment clears from its own edges (thesis §6.5: larger fragments fly
+  // faster); pane: every fragment clears from the pane's edges.
+  Clearing clearing = Clearing::fragment;
+};
+
 struct ObjectSpec {
   std::string name;  // unique within the scene
   ShapeType shape = ShapeType::box;
@@ -53,13 +88,14 @@ struct ObjectSpec {
   geometry::TriangleMesh mesh;     // the shape as a mesh in its own frame (boxes included)
   Vec3 position = Vec3::Zero();    // world position of the shape's origin, m
   Quat orientation = Quat::Identity();
-  double mass_kg = 0.0;           // resolved: given mass, or density * volume
-  double friction = 0.5;          // mu of the frictional hold (thesis §3.6), >= 0
-  double drag_coefficient = 1.0;  // C_D for blast drag and flight drag
-  bool anchored = false;          // never moves
-  bool blocks = true;             // casts a blast shadow (occlusion, later)
-  bool rotates = true;            // false: translation only
-  std::string material;           // optional name from the materials table
+  double mass_kg = 0.0;                  // resolved: given mass, or density * volume
+  double friction = 0.5;                 // mu of the frictional hold (thesis §3.6), >= 0
+  double drag_coefficient = 1.0;         // C_D for blast drag and flight drag
+  bool anchored = false;                 // never moves
+  bool blocks = true;                    // casts a blast shadow (occlusion, later)
+  bool rotates = true;                   // false: translation only
+  std::string material;                  // optional name from the materials table
+  std::optional<FractureSpec> fracture;  // breakable pane (box shapes only)
 };
 
 enum class Integrator { explicit_euler, semi_implicit_euler, rk4 };
@@ -117,12 +153,19 @@ ParseResult parse_scene(const nlohmann::json& document, const Limits& limits = {
 // The same from text; malformed JSON is one error with pointer "" and the parser's position.
 ParseResult parse_scene_text(std::string_view text, const Limits& limits = {});
 
-// Named materials for `material` (density and default friction), with their public sources.
+// Named materials for `material` (density and default friction; for breakable materials also
+// Young's modulus, fracture toughness and bending strength), with their public sources. Every
+// material lives in one table, sim/scene/materials.cpp.
 struct Material {
   std::string_view name;
   double density_kg_m3;
   double friction;
   std::string_view source;
+  // Breakable materials only (strength_pa > 0): may carry `fracture`.
+  double youngs_modulus_pa = 0.0;
+  double fracture_toughness_pa_sqrt_m = 0.0;  // K_c
+  double strength_pa = 0.0;                   // bending strength
+  std::string_view fracture_source = {};
 };
 std::vector<Material> known_materials();
 

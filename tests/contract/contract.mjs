@@ -702,7 +702,7 @@ async function sceneSchemaAgreement(s) {
     ["mesh of 3 triangles", edit((x) => { x.objects[0].shape = { ...tetra, triangles: tetra.triangles.slice(0, 3) }; }), "/scene/objects/0/shape/triangles"],
     ["mesh index -1", edit((x) => { x.objects[0].shape = { ...tetra, triangles: [[0, 2, -1], ...tetra.triangles.slice(1)] }; }), "/scene/objects/0/shape/triangles/0/2"],
     ["no objects", edit((x) => { delete x.objects; }), "/scene/objects"],
-    ["generator 'window'", edit((x) => { x.generators = [{ type: "window", name: "w" }]; }), "/scene/generators/0/type"],
+    ["window without size", edit((x) => { x.generators = [{ type: "window", name: "w" }]; }), "/scene/generators/0/size"],
     ["brick wall without rows", edit((x) => { x.generators = [{ type: "brick_wall", name: "w", columns: 2, brick_size: [0.4, 0.1, 0.1], brick_mass: 1 }]; }), "/scene/generators/0/rows"],
     ["brick wall rows 0", edit((x) => { x.generators = [{ type: "brick_wall", name: "w", rows: 0, columns: 2, brick_size: [0.4, 0.1, 0.1], brick_mass: 1 }]; }), "/scene/generators/0/rows"],
     ["blocks with mass and density", edit((x) => { x.generators = [{ type: "blocks", name: "b", counts: [1, 1, 1], size: [1, 1, 1], mass: 1, density: 1, position: [0, 0, 9] }]; }), "/scene/generators/0/density"],

@@ -753,6 +753,12 @@ export interface components {
             body_steps: number;
             /** @description No occlusion pass ran. */
             occlusion_skipped: boolean;
+            /** @description Breakable panes cut into fragments. */
+            panes_broken: number;
+            /** @description Breakable panes whose stress stayed below strength; no fracture work done. */
+            panes_not_broken: number;
+            /** @description Fragment bodies made from broken panes. */
+            fragments: number;
         };
         /** @description A body of the result, at its initial pose. */
         ResultBody: {
@@ -796,7 +802,57 @@ export interface components {
             final_state: components["schemas"]["FinalState"][];
             stats: components["schemas"]["RunStats"];
             warnings: components["schemas"]["RunWarning"][];
+            /** @description One entry per breakable pane, in scene order (empty without panes). */
+            fracture?: components["schemas"]["PaneFracture"][];
             job: components["schemas"]["Job"];
+        };
+        /** @description Mean, extremes and nearest-rank percentiles of a per-fragment quantity (all 0 when count is 0). */
+        Distribution: {
+            count: number;
+            mean: number;
+            min: number;
+            p10: number;
+            p50: number;
+            p90: number;
+            max: number;
+        };
+        /**
+         * @description A breakable pane (docs/fracture.md): the peak reflected pressure at its centre, its
+         *     bending stress (Roark table 11.4 case 1a, simply supported plate), whether it broke and
+         *     at what scale (thesis eq. 5.5), and its fragments, which are bodies `first_body` to
+         *     `first_body + fragment_count - 1`.
+         */
+        PaneFracture: {
+            name: string;
+            broken: boolean;
+            /** @description Broken by `fracture.break = always` although the stress stayed below strength. */
+            forced: boolean;
+            peak_pressure_pa: number;
+            stress_pa: number;
+            strength_pa: number;
+            deflection_m: number;
+            /** @description The plate's deflection stays below half its thickness (the formula's range). */
+            small_deflection: boolean;
+            /** @description a_c = (1/pi)(K_c/stress)^2 (thesis eq. 5.5); 0 if unbroken. */
+            critical_crack_length_m: number;
+            /** @description The crack pattern's growth length between forks; 0 if unbroken. */
+            growth_length_m: number;
+            growth_length_given: boolean;
+            growth_length_clamped: boolean;
+            first_body: number;
+            fragment_count: number;
+            frontal_area_m2: components["schemas"]["Distribution"];
+            launch_speed_m_s: components["schemas"]["Distribution"];
+            launch_speed_larger_half_m_s: number;
+            launch_speed_smaller_half_m_s: number;
+            released: number;
+            /** @description Per fragment, when it broke free (s), or null if it never did. */
+            release_times_s: (number | null)[];
+            release_time_s: components["schemas"]["Distribution"];
+            /** @description Thesis eq. 2.45 at the pane's peak pressure. */
+            empirical_mean_area_m2: number;
+            /** @description Thesis eq. 2.46 at the pane's peak pressure and thickness. */
+            empirical_mean_speed_m_s: number;
         };
         Pose: {
             /** @description The body index. */
@@ -1171,17 +1227,21 @@ export interface components {
             restitution?: number;
         };
         /**
-         * @description `brick`, `concrete`, `steel`, `wood`, `glass`, `aluminium`, `granite` or `stone` (case
-         *     ignored): a density for the mass and a default friction.
+         * @description `brick`, `concrete`, `steel`, `wood`, `glass`, `annealed_glass`, `tempered_glass`,
+         *     `aluminium`, `granite` or `stone` (case ignored): a density for the mass and a default
+         *     friction; the glasses also carry Young's modulus, fracture toughness and bending strength
+         *     for `fracture`.
          * @example brick
          * @example concrete
-         * @example wood
+         * @example annealed_glass
          */
         MaterialName: string;
         /**
          * @description A rigid body. Its mass is `mass`, or `density` (or else the material's density) times the
-         *     shape's volume: give `mass` or `density` (not both), or neither with a `material`. The
-         *     field `fracture` is recognised but not available in this build (an error says so).
+         *     shape's volume: give `mass` or `density` (not both), or neither with a `material`. With
+         *     `fracture` it is a breakable pane: a box `[width, height, thickness]` (thickness the
+         *     smallest, front face +z), of a breakable material (or with `fracture.strength`,
+         *     `toughness` and `youngs_modulus`), not anchored.
          */
         SceneObject: {
             /** @description Unique in the scene, generated names included. */
@@ -1224,12 +1284,77 @@ export interface components {
              */
             rotates?: boolean;
             material?: components["schemas"]["MaterialName"];
+            fracture?: components["schemas"]["Fracture"];
         } | {
             mass: unknown;
         } | {
             density: unknown;
         } | {
             material: unknown;
+        };
+        /**
+         * @description A breakable pane (docs/fracture.md). The peak reflected pressure at its centre gives its
+         *     bending stress (Roark table 11.4 case 1a); above the strength it breaks into a crack
+         *     pattern whose growth length is `pattern_scale` x a_c (thesis eq. 5.5), unless given.
+         */
+        Fracture: {
+            /**
+             * @description always - break whatever the stress (artist control, thesis §6).
+             * @default auto
+             * @enum {string}
+             */
+            break?: "auto" | "always";
+            /** @description m; overrides eq. 5.5's scale. */
+            growth_length?: number;
+            /** @default 5000 */
+            pattern_scale?: number;
+            /** @default 25 */
+            branch_angle?: number;
+            /** @default 34.5 */
+            angle_variance?: number;
+            /** @default 0.3 */
+            wiggle_probability?: number;
+            /** @default 30 */
+            wiggle_variance?: number;
+            /**
+             * @description Bit-bucket cells along the pane's longer side.
+             * @default 2048
+             */
+            grid?: number;
+            /** @description The pattern's seed; default from simulation.seed and the object. */
+            seed?: number;
+            /**
+             * @description Objects only - an anchored frame holds the pane's edges.
+             * @default false
+             */
+            framed?: boolean;
+            /**
+             * @description Pa over the crack area (length x thickness) holding a fragment.
+             * @default 1000
+             */
+            bond_strength?: number;
+            /**
+             * @description Pa over the frame edge length x frame_bite holding an edge fragment.
+             * @default 138000
+             */
+            frame_strength?: number;
+            /**
+             * @description m.
+             * @default 0.01
+             */
+            frame_bite?: number;
+            /**
+             * @description fragment - each fragment clears from its own edges (thesis §6.5); pane - from the pane's.
+             * @default fragment
+             * @enum {string}
+             */
+            clearing?: "fragment" | "pane";
+            /** @description Bending strength, Pa. */
+            strength?: number;
+            /** @description K_c, Pa m^0.5. */
+            toughness?: number;
+            /** @description Pa. */
+            youngs_modulus?: number;
         };
         /** @description A box or a closed triangle mesh, in the object's own frame. */
         Shape: components["schemas"]["BoxShape"] | components["schemas"]["MeshShape"];
@@ -1281,7 +1406,58 @@ export interface components {
             ];
         };
         /** @description Objects made by rule. */
-        Generator: components["schemas"]["BrickWallGenerator"] | components["schemas"]["BlocksGenerator"];
+        Generator: components["schemas"]["BrickWallGenerator"] | components["schemas"]["BlocksGenerator"] | components["schemas"]["WindowGenerator"];
+        /**
+         * @description A breakable glass pane centred on `position`, spanning local x and y, its thickness along
+         *     local z (front face +z), named `<name>/pane`; with `frame`, four anchored wooden bars
+         *     `<name>/frame/{bottom,top,left,right}` hold its edges. A broken pane's fragments are
+         *     `<name>/pane/f<k>`.
+         */
+        WindowGenerator: {
+            /**
+             * @description discriminator enum property added by openapi-typescript
+             * @enum {string}
+             */
+            type: "window";
+            name: string;
+            /**
+             * @default [
+             *       0,
+             *       0,
+             *       0
+             *     ]
+             */
+            position?: components["schemas"]["SceneVec3"];
+            orientation?: components["schemas"]["SceneOrientation"];
+            /** @description [width, height] of the pane, m. */
+            size: [
+                number,
+                number
+            ];
+            /**
+             * @description m; at most the width and the height.
+             * @default 0.006
+             */
+            thickness?: number;
+            /**
+             * @description A breakable material (case ignored).
+             * @default annealed_glass
+             */
+            material?: string;
+            /** @default true */
+            frame?: boolean;
+            /**
+             * @description m.
+             * @default 0.05
+             */
+            frame_width?: number;
+            /**
+             * @description m; at least the thickness.
+             * @default 0.07
+             */
+            frame_depth?: number;
+            fracture?: components["schemas"]["Fracture"];
+        };
         /**
          * @description A running-bond wall standing on `position` (the centre of its base), along local x; odd
          *     rows start and end with half bricks of half mass. Bricks are named
@@ -1385,7 +1561,7 @@ export interface components {
              */
             tolerance?: number;
             /**
-             * @description Seed of the randomness of later features.
+             * @description Seed of the crack patterns of breakable panes.
              * @default 0
              */
             seed?: number;

@@ -71,8 +71,40 @@ engine::Result synthetic_result() {
                   .panels_back_facing = 12,
                   .panels_not_reached = 6,
                   .body_steps = 2400,
-                  .occlusion_skipped = false};
+                  .occlusion_skipped = false,
+                  .panes_broken = 1,
+                  .panes_not_broken = 7,
+                  .fragments = 2};
   result.warnings.push_back({"blast_out_of_range", "scaled distance above the fit", 7});
+  engine::PaneReport pane;
+  pane.name = "window/pane";
+  pane.broken = true;
+  pane.peak_pressure_pa = 8.1e4;
+  pane.stress_pa = 7.8e8;
+  pane.strength_pa = 4.5e7;
+  pane.deflection_m = 0.25;
+  pane.small_deflection = false;
+  pane.critical_crack_length_m = 3e-7;
+  pane.growth_length_m = 1.5e-3;
+  pane.growth_length_clamped = true;
+  pane.first_body = 2;
+  pane.fragment_count = 2;
+  pane.frontal_area_m2 = {
+      .count = 2, .mean = 0.5, .min = 0.25, .p10 = 0.25, .p50 = 0.25, .p90 = 0.75, .max = 0.75};
+  pane.launch_speed_m_s = {.count = 1, .mean = 3, .min = 3, .p10 = 3, .p50 = 3, .p90 = 3, .max = 3};
+  pane.launch_speed_larger_half_m_s = 3;
+  pane.released = 1;
+  pane.release_times_s = {0.0173, -1.0};
+  pane.release_time_s = {.count = 1,
+                         .mean = 0.0173,
+                         .min = 0.0173,
+                         .p10 = 0.0173,
+                         .p50 = 0.0173,
+                         .p90 = 0.0173,
+                         .max = 0.0173};
+  pane.empirical_mean_area_m2 = 1.9e-5;
+  pane.empirical_mean_speed_m_s = 46.3;
+  result.fracture.push_back(pane);
   return result;
 }
 
@@ -102,7 +134,8 @@ TEST(ResultJson, HasExactlyTheDocumentedTopLevelMembers) {
   std::set<std::string> keys;
   for (const auto& [key, value] : j.items())
     keys.insert(key);
-  EXPECT_EQ(keys, (std::set<std::string>{"bodies", "frames", "final_state", "stats", "warnings"}));
+  EXPECT_EQ(keys, (std::set<std::string>{"bodies", "frames", "final_state", "fracture", "stats",
+                                         "warnings"}));
 }
 
 TEST(ResultJson, BodiesCarryNameMassMeshPoseAndAnimatedFlag) {
@@ -189,9 +222,50 @@ TEST(ResultJson, StatsHoldEveryFieldUnderItsMemberName) {
                          {"panels_back_facing", 12},
                          {"panels_not_reached", 6},
                          {"body_steps", 2400},
-                         {"occlusion_skipped", false}};
+                         {"occlusion_skipped", false},
+                         {"panes_broken", 1},
+                         {"panes_not_broken", 7},
+                         {"fragments", 2}};
   EXPECT_EQ(stats, expected) << stats.dump();
   EXPECT_EQ(stats_to_json(result.stats), expected);
+}
+
+TEST(ResultJson, FractureHoldsEveryPaneField) {
+  const json fracture = round_trip(synthetic_result())["fracture"];
+  ASSERT_EQ(fracture.size(), 1u);
+  const json& pane = fracture[0];
+  EXPECT_EQ(pane.size(), 23u) << pane.dump();
+  EXPECT_EQ(pane["name"], "window/pane");
+  EXPECT_EQ(pane["broken"], true);
+  EXPECT_EQ(pane["forced"], false);
+  EXPECT_EQ(pane["peak_pressure_pa"], 8.1e4);
+  EXPECT_EQ(pane["stress_pa"], 7.8e8);
+  EXPECT_EQ(pane["strength_pa"], 4.5e7);
+  EXPECT_EQ(pane["deflection_m"], 0.25);
+  EXPECT_EQ(pane["small_deflection"], false);
+  EXPECT_EQ(pane["critical_crack_length_m"], 3e-7);
+  EXPECT_EQ(pane["growth_length_m"], 1.5e-3);
+  EXPECT_EQ(pane["growth_length_given"], false);
+  EXPECT_EQ(pane["growth_length_clamped"], true);
+  EXPECT_EQ(pane["first_body"], 2);
+  EXPECT_EQ(pane["fragment_count"], 2);
+  EXPECT_EQ(pane["frontal_area_m2"], (json{{"count", 2},
+                                           {"mean", 0.5},
+                                           {"min", 0.25},
+                                           {"p10", 0.25},
+                                           {"p50", 0.25},
+                                           {"p90", 0.75},
+                                           {"max", 0.75}}));
+  EXPECT_EQ(pane["launch_speed_m_s"]["mean"], 3.0);
+  EXPECT_EQ(pane["launch_speed_larger_half_m_s"], 3.0);
+  EXPECT_EQ(pane["launch_speed_smaller_half_m_s"], 0.0);
+  EXPECT_EQ(pane["released"], 1);
+  // A fragment that never broke free is null.
+  EXPECT_EQ(pane["release_times_s"], (json::array({0.0173, nullptr})));
+  EXPECT_EQ(pane["release_time_s"]["max"], 0.0173);
+  EXPECT_EQ(pane["empirical_mean_area_m2"], 1.9e-5);
+  EXPECT_EQ(pane["empirical_mean_speed_m_s"], 46.3);
+  EXPECT_EQ(round_trip(engine::Result{})["fracture"], json::array());
 }
 
 TEST(ResultJson, StreamedTextIsTheCompactDumpAndANewline) {

@@ -13,6 +13,7 @@
 #include <set>
 #include <sstream>
 #include <string>
+#include <tuple>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -785,11 +786,171 @@ TEST(SceneObjects, FrictionDragAndFlags) {
   single_error(doc, "/objects/0/drag_coefficient");
 }
 
-TEST(SceneObjects, FractureIsNotAvailableYet) {
+// A breakable pane: a glass box, thickness along z.
+json pane_scene() {
   json doc = minimal_scene();
-  doc["objects"][0]["fracture"] = {{"toughness", 0.75}};
-  const std::string message = single_error(doc, "/objects/0/fracture");
-  EXPECT_TRUE(contains(message, "fracture is not available in this build yet")) << message;
+  doc["objects"][0] = {{"name", "pane"},
+                       {"shape", {{"type", "box"}, {"size", {1.2, 0.9, 0.006}}}},
+                       {"position", {0, 1.5, 0}},
+                       {"material", "annealed_glass"},
+                       {"fracture", json::object()}};
+  return doc;
+}
+
+TEST(SceneFracture, PaneGetsTheMaterialsValuesAndDefaults) {
+  const Scene scene = parse_ok(pane_scene());
+  ASSERT_TRUE(scene.objects[0].fracture.has_value());
+  const FractureSpec& spec = *scene.objects[0].fracture;
+  EXPECT_EQ(spec.strength_pa, 45e6);
+  EXPECT_EQ(spec.fracture_toughness_pa_sqrt_m, 0.75e6);
+  EXPECT_EQ(spec.youngs_modulus_pa, 70e9);
+  EXPECT_EQ(spec.trigger, FractureSpec::Trigger::automatic);
+  EXPECT_FALSE(spec.growth_length_m.has_value());
+  EXPECT_FALSE(spec.framed);
+  EXPECT_NEAR(scene.objects[0].mass_kg, 2500.0 * 1.2 * 0.9 * 0.006, 1e-9);
+}
+
+TEST(SceneFracture, EveryFieldIsRead) {
+  json doc = pane_scene();
+  doc["objects"][0]["material"] = "tempered_glass";
+  doc["objects"][0]["fracture"] = {
+      {"break", "always"},     {"growth_length", 0.01}, {"pattern_scale", 100},
+      {"branch_angle", 15},    {"angle_variance", 0},   {"wiggle_probability", 0},
+      {"wiggle_variance", 10}, {"grid", 256},           {"seed", 9},
+      {"framed", true},        {"bond_strength", 5},    {"frame_strength", 6},
+      {"frame_bite", 0.02},    {"clearing", "pane"},    {"strength", 1e8},
+      {"toughness", 1e6},      {"youngs_modulus", 6e10}};
+  const FractureSpec spec = *parse_ok(doc).objects[0].fracture;
+  EXPECT_EQ(spec.trigger, FractureSpec::Trigger::always);
+  EXPECT_EQ(spec.growth_length_m, 0.01);
+  EXPECT_EQ(spec.pattern_scale, 100.0);
+  EXPECT_EQ(spec.branch_angle_deg, 15.0);
+  EXPECT_EQ(spec.grid, 256);
+  EXPECT_EQ(spec.seed, 9u);
+  EXPECT_TRUE(spec.framed);
+  EXPECT_EQ(spec.bond_strength_pa, 5.0);
+  EXPECT_EQ(spec.frame_strength_pa, 6.0);
+  EXPECT_EQ(spec.frame_bite_m, 0.02);
+  EXPECT_EQ(spec.clearing, FractureSpec::Clearing::pane);
+  EXPECT_EQ(spec.strength_pa, 1e8);
+  EXPECT_EQ(spec.fracture_toughness_pa_sqrt_m, 1e6);
+  EXPECT_EQ(spec.youngs_modulus_pa, 6e10);
+  doc["objects"][0]["material"] = "tempered_glass";
+  doc["objects"][0]["fracture"] = json::object();
+  EXPECT_EQ(parse_ok(doc).objects[0].fracture->strength_pa, 120e6);
+}
+
+TEST(SceneFracture, ErrorsPointAtTheFieldAndNameTheFix) {
+  const std::tuple<const char*, std::function<void(json&)>, const char*> cases[] = {
+      {"/objects/0/fracture/colour", [](json& d) { d["objects"][0]["fracture"]["colour"] = 1; },
+       "known fields"},
+      {"/objects/0/fracture/break", [](json& d) { d["objects"][0]["fracture"]["break"] = "now"; },
+       "auto, always"},
+      {"/objects/0/fracture/grid", [](json& d) { d["objects"][0]["fracture"]["grid"] = 8; },
+       "integer in [16, 4096]"},
+      {"/objects/0/fracture/growth_length",
+       [](json& d) { d["objects"][0]["fracture"]["growth_length"] = 0; }, "(0, 10]"},
+      {"/objects/0/fracture/clearing",
+       [](json& d) { d["objects"][0]["fracture"]["clearing"] = "edge"; }, "fragment, pane"},
+      {"/objects/0/fracture", [](json& d) { d["objects"][0]["fracture"] = 3; }, "JSON object"},
+      {"/objects/0/fracture",
+       [](json& d) {
+         d["objects"][0].erase("material");
+         d["objects"][0]["density"] = 2500;
+       },
+       "breakable 'material'"},
+      {"/objects/0/shape/size/2",
+       [](json& d) {
+         d["objects"][0]["shape"]["size"] = {0.006, 0.9, 1.2};
+       },
+       "smallest edge"},
+      {"/objects/0/anchored", [](json& d) { d["objects"][0]["anchored"] = true; }, "framed"},
+  };
+  for (const auto& [pointer, edit, part] : cases) {
+    json doc = pane_scene();
+    edit(doc);
+    const std::string message = single_error(doc, pointer);
+    EXPECT_TRUE(contains(message, part)) << pointer << ": " << message;
+  }
+  json doc = pane_scene();
+  doc["objects"][0]["shape"] = {{"type", "mesh"},
+                                {"vertices", {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}}},
+                                {"triangles", {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}}}};
+  EXPECT_TRUE(contains(single_error(doc, "/objects/0/shape"), "must be a box pane"));
+}
+
+json window_scene() {
+  json doc = minimal_scene();
+  doc.erase("objects");
+  doc["generators"] = {{{"type", "window"},
+                        {"name", "w"},
+                        {"position", {0, 1.5, 0}},
+                        {"size", {1.2, 0.9}},
+                        {"thickness", 0.006}}};
+  return doc;
+}
+
+TEST(SceneWindow, GeneratesAPaneAndAnAnchoredFrame) {
+  const Scene scene = parse_ok(window_scene());
+  ASSERT_EQ(scene.objects.size(), 5u);
+  const ObjectSpec& pane = scene.objects[0];
+  EXPECT_EQ(pane.name, "w/pane");
+  EXPECT_EQ(pane.material, "annealed_glass");
+  ASSERT_TRUE(pane.fracture.has_value());
+  EXPECT_TRUE(pane.fracture->framed);
+  EXPECT_EQ(pane.fracture->strength_pa, 45e6);
+  EXPECT_TRUE(pane.box_size_m.isApprox(Eigen::Vector3d(1.2, 0.9, 0.006)));
+  for (std::size_t i = 1; i < 5; ++i) {
+    EXPECT_TRUE(scene.objects[i].anchored) << scene.objects[i].name;
+    EXPECT_FALSE(scene.objects[i].fracture.has_value());
+  }
+  EXPECT_EQ(scene.objects[1].name, "w/frame/bottom");
+  // The frame's inner edges meet the pane's edges.
+  EXPECT_NEAR(scene.objects[1].position.y() + 0.5 * scene.objects[1].box_size_m.y(), 1.5 - 0.45,
+              1e-12);
+  json doc = window_scene();
+  doc["generators"][0]["frame"] = false;
+  doc["generators"][0]["material"] = "tempered_glass";
+  doc["generators"][0]["fracture"] = {{"growth_length", 0.02}};
+  const Scene unframed = parse_ok(doc);
+  ASSERT_EQ(unframed.objects.size(), 1u);
+  EXPECT_FALSE(unframed.objects[0].fracture->framed);
+  EXPECT_EQ(unframed.objects[0].fracture->strength_pa, 120e6);
+  EXPECT_EQ(unframed.objects[0].fracture->growth_length_m, 0.02);
+}
+
+TEST(SceneWindow, ErrorsPointAtTheFieldAndNameTheFix) {
+  const std::tuple<const char*, std::function<void(json&)>, const char*> cases[] = {
+      {"/generators/0/glass", [](json& d) { d["generators"][0]["glass"] = 1; }, "known fields"},
+      {"/generators/0/size",
+       [](json& d) {
+         d["generators"][0]["size"] = {1, 2, 3};
+       },
+       "[width, height]"},
+      {"/generators/0/size", [](json& d) { d["generators"][0].erase("size"); }, "is required"},
+      {"/generators/0/size/1", [](json& d) { d["generators"][0]["size"][1] = -1; }, "> 0"},
+      {"/generators/0/material", [](json& d) { d["generators"][0]["material"] = "brick"; },
+       "breakable material"},
+      {"/generators/0/thickness", [](json& d) { d["generators"][0]["thickness"] = 0; }, "(0, 0.1]"},
+      {"/generators/0/frame_depth", [](json& d) { d["generators"][0]["frame_depth"] = 0.001; },
+       "deeper"},
+      {"/generators/0/fracture/framed",
+       [](json& d) {
+         d["generators"][0]["fracture"] = {{"framed", true}};
+       },
+       "'frame'"},
+      {"/generators/0/fracture/pattern_scale",
+       [](json& d) {
+         d["generators"][0]["fracture"] = {{"pattern_scale", -1}};
+       },
+       "> 0"},
+  };
+  for (const auto& [pointer, edit, part] : cases) {
+    json doc = window_scene();
+    edit(doc);
+    const std::string message = single_error(doc, pointer);
+    EXPECT_TRUE(contains(message, part)) << pointer << ": " << message;
+  }
 }
 
 TEST(SceneObjects, AtLeastOneObjectIsRequired) {

@@ -1,0 +1,57 @@
+// The window of thesis ch. 6 end to end (goal: scenes/window.json, at least 500 fragments, 2 s
+// at 30 fps, in under 1 s on one core): parse the scene, break the pane (pressure, stress, crack
+// pattern, fragment prisms), simulate, write the .glb as `brisance run -o window.glb` does.
+//
+// usage: window_bench [google-benchmark flags]
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include <benchmark/benchmark.h>
+
+#include "sim/engine/simulator.hpp"
+#include "sim/io/gltf.hpp"
+#include "sim/scene/scene.hpp"
+
+namespace {
+
+std::string read_scene(const std::string& name) {
+  std::ifstream in(std::string(BRISANCE_SOURCE_DIR) + "/scenes/" + name);
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+void window_end_to_end(benchmark::State& state, const char* file) {
+  const std::string text = read_scene(file);
+  std::uint64_t fragments = 0;
+  std::uint64_t steps = 0;
+  std::size_t glb_bytes = 0;
+  for (auto _ : state) {
+    const auto parsed = brisance::scene::parse_scene_text(text);
+    if (!parsed.scene) {
+      state.SkipWithError("the scene does not parse");
+      return;
+    }
+    const auto outcome = brisance::engine::simulate(*parsed.scene);
+    const std::vector<std::uint8_t> glb = brisance::io::result_to_glb(outcome.result);
+    fragments = outcome.result.stats.fragments;
+    steps = outcome.result.stats.steps;
+    glb_bytes = glb.size();
+    benchmark::DoNotOptimize(glb.data());
+  }
+  state.counters["fragments"] = static_cast<double>(fragments);
+  state.counters["steps"] = static_cast<double>(steps);
+  state.counters["glb_MB"] = static_cast<double>(glb_bytes) / 1e6;
+}
+
+}  // namespace
+
+BENCHMARK_CAPTURE(window_end_to_end, window, "window.json")
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+BENCHMARK_CAPTURE(window_end_to_end, window_overdamped, "window_overdamped.json")
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+
+BENCHMARK_MAIN();

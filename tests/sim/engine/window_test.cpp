@@ -1,0 +1,296 @@
+// Breakable panes in the engine (DESIGN.md decision 9, thesis ch. 6): the blast's stress decides
+// whether a pane breaks and at what scale, fragments break free as the wave reaches them, and the
+// window scenes behave as the thesis describes.
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <numeric>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "sim/blast/blast_point.hpp"
+#include "sim/engine/simulator.hpp"
+#include "sim/fracture/pane.hpp"
+#include "sim/geometry/mesh.hpp"
+#include "sim/scene/scene.hpp"
+
+namespace brisance::engine {
+namespace {
+
+using Vec3 = Eigen::Vector3d;
+
+scene::Scene load(const std::string& name) {
+  std::ifstream in(std::string(BRISANCE_SOURCE_DIR) + "/scenes/" + name);
+  std::stringstream text;
+  text << in.rdbuf();
+  const scene::ParseResult parsed = scene::parse_scene_text(text.str());
+  EXPECT_TRUE(parsed.errors.empty())
+      << name << ": " << parsed.errors.front().pointer << " " << parsed.errors.front().message;
+  return *parsed.scene;
+}
+
+// A 1.2 m x 0.9 m x 6 mm annealed pane centred at (0, 1.5, 0), front face +z, no ground, and
+// `mass_kg` of TNT at `charge` (a short run: fragments need only be launched).
+scene::Scene pane_scene(double mass_kg, const Vec3& charge, int grid = 512) {
+  scene::Scene s;
+  scene::ChargeSpec c;
+  c.mass_kg = mass_kg;
+  c.position = charge;
+  s.charges.push_back(c);
+  s.environment.ground.reset();
+  scene::ObjectSpec pane;
+  pane.name = "pane";
+  pane.shape = scene::ShapeType::box;
+  pane.box_size_m = Vec3(1.2, 0.9, 0.006);
+  pane.mesh = geometry::make_box(pane.box_size_m);
+  pane.position = Vec3(0.0, 1.5, 0.0);
+  pane.mass_kg = 2500.0 * pane.box_size_m.prod();
+  pane.material = "annealed_glass";
+  pane.fracture = scene::FractureSpec{};
+  pane.fracture->grid = grid;
+  s.objects.push_back(pane);
+  s.simulation.duration_s = 0.1;
+  return s;
+}
+
+TEST(PaneCoupling, RoarkTableAndPlateStress) {
+  EXPECT_DOUBLE_EQ(fracture::roark_beta(1.0), 0.2874);
+  EXPECT_DOUBLE_EQ(fracture::roark_beta(2.0), 0.6102);
+  EXPECT_NEAR(fracture::roark_beta(1.1), 0.5 * (0.2874 + 0.3762), 1e-12);
+  EXPECT_NEAR(fracture::roark_beta(1e9), 0.75, 1e-6);
+  // A 1 m square, 10 mm plate under 1 kPa: 0.2874 * 1000 * 1 / 1e-4 = 2.874 MPa.
+  const fracture::PlateResponse plate = fracture::simply_supported_plate(1, 1, 0.01, 1e3, 70e9);
+  EXPECT_NEAR(plate.stress_pa, 2.874e6, 1.0);
+  EXPECT_NEAR(plate.deflection_m, 0.0444 * 1e3 / (70e9 * 1e-6), 1e-12);
+  // The same for width and height swapped.
+  EXPECT_EQ(fracture::simply_supported_plate(1.2, 0.9, 0.006, 5e3, 70e9).stress_pa,
+            fracture::simply_supported_plate(0.9, 1.2, 0.006, 5e3, 70e9).stress_pa);
+}
+
+TEST(PaneCoupling, GrowthLengthFallsAsPressureRises) {
+  fracture::PaneFractureInput input;
+  input.width_m = 1.2;
+  input.height_m = 0.9;
+  input.min_growth_length_m = 1e-4;
+  input.max_growth_length_m = 0.45;
+  double previous = INFINITY;
+  for (double p : {6e3, 1e4, 2e4, 4e4, 8e4}) {
+    input.pressure_pa = p;
+    const fracture::PaneFracture f = fracture::pane_fracture(input);
+    ASSERT_TRUE(f.breaks) << p;
+    EXPECT_LT(f.growth_length_m, previous) << p;
+    // eq. 5.5: a_c = (1/pi)(K_c / sigma)^2.
+    EXPECT_NEAR(f.critical_crack_length_m,
+                std::pow(input.fracture_toughness_pa_sqrt_m / f.plate.stress_pa, 2) / M_PI, 1e-18);
+    previous = f.growth_length_m;
+  }
+  input.pressure_pa = 1e3;  // 9.6 MPa of stress: below 45 MPa
+  EXPECT_FALSE(fracture::pane_fracture(input).breaks);
+}
+
+TEST(PaneCoupling, EmpiricalFormulasAsPrinted) {
+  // Eq. 2.45 at 0 Pa: one square inch times e^(2.4 - sqrt(12.5)).
+  EXPECT_NEAR(fracture::empirical_fragment_area_m2(0.0),
+              6.4516e-4 * std::exp(2.4 - std::sqrt(12.5)), 1e-15);
+  EXPECT_GT(fracture::empirical_fragment_area_m2(1e4), fracture::empirical_fragment_area_m2(1e5));
+  EXPECT_GT(fracture::empirical_fragment_velocity_m_s(1e5, 0.006),
+            fracture::empirical_fragment_velocity_m_s(1e4, 0.006));
+}
+
+TEST(PaneCoupling, HigherPressureGivesSmallerFragments) {
+  // The monotone response of fragment scale to pressure (thesis p. 5.4: "for higher pressure,
+  // the average fragment size will be smaller"), median over seeds: one pattern can stop early.
+  double previous_area = INFINITY;
+  double previous_pressure = 0.0;
+  for (double distance : {30.0, 20.0, 14.0}) {
+    std::vector<double> areas;
+    double pressure = 0.0;
+    for (std::uint64_t seed : {1u, 2u, 3u}) {
+      scene::Scene s = pane_scene(10.0, Vec3(0.0, 1.5, distance));
+      s.simulation.seed = seed;
+      s.simulation.duration_s = 0.01;
+      const Result r = simulate(s).result;
+      ASSERT_EQ(r.fracture.size(), 1u);
+      const PaneReport& pane = r.fracture[0];
+      ASSERT_TRUE(pane.broken) << distance;
+      EXPECT_FALSE(pane.growth_length_clamped) << distance;
+      areas.push_back(pane.frontal_area_m2.mean);
+      pressure = pane.peak_pressure_pa;
+    }
+    std::sort(areas.begin(), areas.end());
+    EXPECT_GT(pressure, previous_pressure);
+    EXPECT_LT(areas[1], previous_area) << "charge at " << distance << " m";
+    previous_area = areas[1];
+    previous_pressure = pressure;
+  }
+}
+
+TEST(PaneCoupling, BelowStrengthThePaneStaysWhole) {
+  // 10 kg at 100 m: about 2 kPa reflected, 19 MPa of stress, below annealed glass's 45 MPa.
+  scene::Scene s = pane_scene(10.0, Vec3(0.0, 1.5, 100.0));
+  const Result r = simulate(s).result;
+  ASSERT_EQ(r.fracture.size(), 1u);
+  EXPECT_FALSE(r.fracture[0].broken);
+  EXPECT_LT(r.fracture[0].stress_pa, r.fracture[0].strength_pa);
+  EXPECT_EQ(r.fracture[0].fragment_count, 0u);
+  EXPECT_EQ(r.stats.panes_not_broken, 1u);
+  EXPECT_EQ(r.stats.fragments, 0u);
+  ASSERT_EQ(r.bodies.size(), 1u);
+  EXPECT_EQ(r.bodies[0].name, "pane");
+  // Tempered glass (120 MPa) holds where annealed (45 MPa) breaks.
+  scene::Scene near = pane_scene(10.0, Vec3(0.0, 1.5, 40.0));
+  const Result annealed = simulate(near).result;
+  near.objects[0].fracture->strength_pa = 120e6;
+  const Result tempered = simulate(near).result;
+  EXPECT_GT(annealed.fracture[0].stress_pa, 45e6);
+  EXPECT_LT(annealed.fracture[0].stress_pa, 120e6);
+  EXPECT_TRUE(annealed.fracture[0].broken);
+  EXPECT_FALSE(tempered.fracture[0].broken);
+}
+
+TEST(PaneCoupling, ExplicitParametersOverrideTheBlast) {
+  // Artist control (thesis §6): break: always and a given growth length.
+  scene::Scene s = pane_scene(10.0, Vec3(0.0, 1.5, 100.0));
+  s.objects[0].fracture->trigger = scene::FractureSpec::Trigger::always;
+  s.objects[0].fracture->growth_length_m = 0.05;
+  const Result r = simulate(s).result;
+  ASSERT_TRUE(r.fracture[0].broken);
+  EXPECT_TRUE(r.fracture[0].forced);
+  EXPECT_TRUE(r.fracture[0].growth_length_given);
+  EXPECT_EQ(r.fracture[0].growth_length_m, 0.05);
+  EXPECT_GT(r.fracture[0].fragment_count, 3u);
+  // A given growth length replaces eq. 5.5's whatever the pressure.
+  scene::Scene near = pane_scene(10.0, Vec3(0.0, 1.5, 14.0));
+  near.objects[0].fracture->growth_length_m = 0.05;
+  const Result given = simulate(near).result;
+  EXPECT_EQ(given.fracture[0].growth_length_m, 0.05);
+  EXPECT_FALSE(given.fracture[0].forced);
+}
+
+TEST(PaneCoupling, FragmentMassesSumToThePanesAndPanelsAreFive) {
+  scene::Scene s = pane_scene(10.0, Vec3(0.0, 1.5, 14.0));
+  const double pane_mass = s.objects[0].mass_kg;
+  const Result r = simulate(s).result;
+  const PaneReport& pane = r.fracture[0];
+  ASSERT_TRUE(pane.broken);
+  ASSERT_EQ(r.bodies.size(), pane.fragment_count);
+  double total = 0.0;
+  double volume = 0.0;
+  for (const BodyInfo& body : r.bodies) {
+    total += body.mass_kg;
+    volume += geometry::mass_properties(body.mesh, 1.0).volume_m3;
+  }
+  EXPECT_NEAR(total, pane_mass, 1e-9 * pane_mass);
+  EXPECT_NEAR(volume, 1.2 * 0.9 * 0.006, 1e-9);
+  // Thesis §6.2: at least five panels per fragment face, both faces.
+  EXPECT_GE(r.stats.panels, 10u * pane.fragment_count);
+}
+
+TEST(PaneCoupling, FragmentsBreakFreeAsTheWaveSweepsThePane) {
+  // A charge off to the side: the wave reaches the near edge first.
+  scene::Scene s = pane_scene(10.0, Vec3(4.0, 1.5, 8.0));
+  s.objects[0].fracture->framed = true;
+  const Result r = simulate(s).result;
+  const PaneReport& pane = r.fracture[0];
+  ASSERT_TRUE(pane.broken);
+  ASSERT_GT(pane.released, 20u);
+  blast::Charge charge;
+  charge.tnt_equivalent_kg = 10.0;
+  std::vector<std::pair<double, double>> by_distance;  // distance, release time
+  for (std::size_t k = 0; k < pane.fragment_count; ++k) {
+    const double release = pane.release_times_s[k];
+    const BodyInfo& body = r.bodies[pane.first_body + k];
+    const Vec3 centroid = Vec3(body.initial_pose.position.data()) +
+                          geometry::mass_properties(body.mesh, 1.0).centre_of_mass;
+    const double distance = (centroid - s.charges[0].position).norm();
+    const double arrival = blast::blast_point(charge, distance).arrival_time_s;
+    if (release < 0.0) {
+      // Never released: it did not move.
+      EXPECT_EQ(std::count(r.animated.begin(), r.animated.end(), pane.first_body + k), 0);
+      continue;
+    }
+    EXPECT_GE(release, arrival - 1e-12) << body.name;
+    by_distance.emplace_back(distance, release);
+  }
+  std::sort(by_distance.begin(), by_distance.end());
+  const std::size_t half = by_distance.size() / 2;
+  double near = 0.0, far = 0.0;
+  for (std::size_t i = 0; i < by_distance.size(); ++i)
+    (i < half ? near : far) += by_distance[i].second;
+  EXPECT_LT(near / static_cast<double>(half), far / static_cast<double>(by_distance.size() - half));
+  // Release times rise with distance: the first and last tenths do not overlap.
+  const std::size_t tenth = by_distance.size() / 10;
+  double latest_near = 0.0, earliest_far = INFINITY;
+  for (std::size_t i = 0; i < tenth; ++i) {
+    latest_near = std::max(latest_near, by_distance[i].second);
+    earliest_far = std::min(earliest_far, by_distance[by_distance.size() - 1 - i].second);
+  }
+  EXPECT_LT(latest_near, earliest_far);
+  // Framed: fragments along the frame are held harder; some stay in it.
+  EXPECT_LT(pane.released, pane.fragment_count);
+}
+
+TEST(PaneCoupling, DeterministicFragmentsAndFrames) {
+  scene::Scene s = pane_scene(10.0, Vec3(1.0, 1.5, 14.0));
+  const Result a = simulate(s).result;
+  const Result b = simulate(s).result;
+  ASSERT_EQ(a.bodies.size(), b.bodies.size());
+  EXPECT_EQ(a.fracture[0].release_times_s, b.fracture[0].release_times_s);
+  ASSERT_EQ(a.poses.size(), b.poses.size());
+  for (std::size_t i = 0; i < a.poses.size(); ++i) {
+    ASSERT_EQ(a.poses[i].position, b.poses[i].position) << i;
+    ASSERT_EQ(a.poses[i].orientation, b.poses[i].orientation) << i;
+  }
+  // Another scene seed, another pattern.
+  s.simulation.seed = 99;
+  const auto masses = [](const Result& r) {
+    std::vector<double> m;
+    for (const BodyInfo& body : r.bodies)
+      m.push_back(body.mass_kg);
+    return m;
+  };
+  EXPECT_NE(masses(simulate(s).result), masses(a));
+}
+
+TEST(WindowScenes, WindowIsBlownOut) {
+  // Thesis ch. 6: hundreds of fragments blown away from the charge (at +z), larger ones faster
+  // (§6.5: each fragment clears from its own edges).
+  const Result r = simulate(load("window.json")).result;
+  ASSERT_EQ(r.fracture.size(), 1u);
+  const PaneReport& pane = r.fracture[0];
+  ASSERT_TRUE(pane.broken);
+  EXPECT_GE(pane.fragment_count, 500u);
+  EXPECT_GT(pane.released, pane.fragment_count / 2);
+  EXPECT_GT(pane.launch_speed_larger_half_m_s, pane.launch_speed_smaller_half_m_s);
+  std::size_t away = 0;
+  for (std::size_t k = 0; k < pane.fragment_count; ++k) {
+    if (pane.release_times_s[k] < 0.0) continue;
+    const FinalState& f = r.final_state[pane.first_body + k];
+    if (f.linear_velocity_m_s[2] < 0.0 && f.pose.position[2] < -0.1) ++away;
+  }
+  EXPECT_EQ(away, pane.released);
+  EXPECT_EQ(r.stats.bodies_anchored, 4u);  // the frame
+}
+
+TEST(WindowScenes, OverdampedWindowBarelyMoves) {
+  // Thesis §6.5, fig. 6.6: damping 1000 times normal (air 1000 times as dense) compresses the
+  // flight into a short distance.
+  const auto mean_travel = [](const Result& r) {
+    const PaneReport& pane = r.fracture[0];
+    double sum = 0.0;
+    for (std::size_t k = 0; k < pane.fragment_count; ++k)
+      sum += std::abs(r.final_state[pane.first_body + k].pose.position[2]);
+    return sum / static_cast<double>(pane.fragment_count);
+  };
+  const Result normal = simulate(load("window.json")).result;
+  const Result overdamped = simulate(load("window_overdamped.json")).result;
+  ASSERT_EQ(normal.fracture[0].fragment_count, overdamped.fracture[0].fragment_count);
+  EXPECT_LT(mean_travel(overdamped), 0.05 * mean_travel(normal));
+  EXPECT_LT(mean_travel(overdamped), 0.05);
+}
+
+}  // namespace
+}  // namespace brisance::engine

@@ -16,10 +16,11 @@ TEST_DEB_PACKAGES := chromium
 
 all: build
 
-# Installs only the packages that are missing, non-interactively.
-deps:
+# $(call apt_install,PACKAGES): installs those of the Debian PACKAGES that are missing,
+# non-interactively (as root, or through sudo).
+define apt_install
 	@missing=""; \
-	for p in $(DEB_PACKAGES); do \
+	for p in $(1); do \
 	  dpkg-query -W -f='$${Status}' "$$p" 2>/dev/null | grep -q "install ok installed" || missing="$$missing $$p"; \
 	done; \
 	if [ -n "$$missing" ]; then \
@@ -28,6 +29,10 @@ deps:
 	  $$sudo apt-get update -qq && \
 	  DEBIAN_FRONTEND=noninteractive $$sudo apt-get install -y -qq --no-install-recommends $$missing; \
 	fi
+endef
+
+deps:
+	$(call apt_install,$(DEB_PACKAGES))
 
 # node and npm for the dashboard and the node-based tests: Debian's nodejs and npm only when no
 # node is installed (a NodeSource node ships its own npm, which Debian's npm package conflicts
@@ -54,16 +59,7 @@ web: node
 
 # The browser tests (tests/web.cmake): Debian's chromium driven by playwright-core.
 web-test-deps: node
-	@missing=""; \
-	for p in $(TEST_DEB_PACKAGES); do \
-	  dpkg-query -W -f='$${Status}' "$$p" 2>/dev/null | grep -q "install ok installed" || missing="$$missing $$p"; \
-	done; \
-	if [ -n "$$missing" ]; then \
-	  echo "Installing missing Debian packages:$$missing"; \
-	  sudo=""; [ "$$(id -u)" -eq 0 ] || sudo="sudo"; \
-	  $$sudo apt-get update -qq && \
-	  DEBIAN_FRONTEND=noninteractive $$sudo apt-get install -y -qq --no-install-recommends $$missing; \
-	fi
+	$(call apt_install,$(TEST_DEB_PACKAGES))
 	npm ci --prefix tests/web --no-audit --no-fund --loglevel=error
 
 $(BUILD_DIR)/release/CMakeCache.txt: | deps

@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <numeric>
 
+#include "sim/geometry/disjoint_sets.hpp"
 #include "sim/geometry/polygon.hpp"
 
 namespace brisance::fracture {
@@ -36,29 +37,6 @@ double distance_to_segment(const Vec2& p, const Segment& s, double* t_out) {
   *t_out = t;
   return (s.a + t * ab - p).norm();
 }
-
-// Disjoint sets whose representative is the smallest member (deterministic).
-class DisjointSets {
- public:
-  explicit DisjointSets(std::size_t n) : parent_(n) {
-    std::iota(parent_.begin(), parent_.end(), std::size_t{0});
-  }
-  std::size_t find(std::size_t x) {
-    while (parent_[x] != x) {
-      parent_[x] = parent_[parent_[x]];
-      x = parent_[x];
-    }
-    return x;
-  }
-  void unite(std::size_t x, std::size_t y) {
-    x = find(x);
-    y = find(y);
-    if (x != y) parent_[std::max(x, y)] = std::min(x, y);
-  }
-
- private:
-  std::vector<std::size_t> parent_;
-};
 
 // All crossings and T-junctions between segments, found through a uniform grid of buckets.
 // A pair is tested in the first bucket (lowest row, then column) that both bounding boxes share.
@@ -302,7 +280,7 @@ FracturePattern extract_fragments(const CrackTree& tree, double width_m, double 
     const Vec2& q = splits[b].point;
     return p.x() != q.x() ? p.x() < q.x() : (p.y() != q.y() ? p.y() < q.y() : a < b);
   });
-  DisjointSets sets(splits.size());
+  geometry::DisjointSets sets(splits.size());
   for (std::size_t k = 0; k < by_x.size(); ++k) {
     const Vec2& p = splits[by_x[k]].point;
     for (std::size_t m = k; m-- > 0;) {

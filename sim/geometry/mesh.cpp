@@ -13,6 +13,8 @@
 
 #include <Eigen/Geometry>
 
+#include "sim/geometry/disjoint_sets.hpp"
+
 namespace brisance::geometry {
 
 namespace {
@@ -209,29 +211,6 @@ double minimal_width(const std::vector<Vec2>& points) {
   }
   return width;
 }
-
-// Disjoint sets over triangle indices (union by smaller root index, path halving).
-class DisjointSets {
- public:
-  explicit DisjointSets(std::size_t count) : parent_(count) {
-    std::iota(parent_.begin(), parent_.end(), std::size_t{0});
-  }
-  std::size_t find(std::size_t x) {
-    while (parent_[x] != x) {
-      parent_[x] = parent_[parent_[x]];
-      x = parent_[x];
-    }
-    return x;
-  }
-  void unite(std::size_t x, std::size_t y) {
-    x = find(x);
-    y = find(y);
-    if (x != y) parent_[std::max(x, y)] = std::min(x, y);
-  }
-
- private:
-  std::vector<std::size_t> parent_;
-};
 
 // What make_panels knows about one triangle.
 struct TriangleInfo {

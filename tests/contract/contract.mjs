@@ -9,13 +9,15 @@
 // run (missing packages, no binary).
 //
 //   node contract.mjs PATH/TO/brisance          (npm ci --prefix tests/contract first)
-import { spawn, execFileSync } from "node:child_process";
+import { execFileSync } from "node:child_process";
 import fs from "node:fs";
 import http from "node:http";
 import net from "node:net";
 import os from "node:os";
 import path from "node:path";
 import { fileURLToPath } from "node:url";
+
+import { startServer as startBrisance, stopServer as stopBrisance } from "../support/serve.mjs";
 
 const here = path.dirname(fileURLToPath(import.meta.url));
 const root = path.resolve(here, "../..");
@@ -270,60 +272,18 @@ function rawRequest(server, text) {
 const servers = [];
 
 async function startServer(name, extraArgs = []) {
-  const data = fs.mkdtempSync(path.join(os.tmpdir(), `brisance-contract-${name}-`));
-  const args = ["serve", "--port", "0", "--data", data, "--workers", "1", "--grace-s", "5", ...extraArgs];
-  const child = spawn(binary, args, { stdio: ["ignore", "ignore", "pipe"] });
-  const server = { name, child, data, port: 0, log: [] };
+  const server = await startBrisance(binary, name, extraArgs, { prefix: "brisance-contract" });
   servers.push(server);
-  server.exited = new Promise((resolveExit) => child.on("exit", (code, signal) => resolveExit({ code, signal })));
-  await new Promise((resolveStart, reject) => {
-    let pending = "";
-    const timer = setTimeout(() => reject(new Error(`${name}: no "listening" line within 20 s`)), 20000);
-    child.stderr.on("data", (chunk) => {
-      pending += chunk.toString();
-      let newline;
-      while ((newline = pending.indexOf("\n")) >= 0) {
-        const line = pending.slice(0, newline);
-        pending = pending.slice(newline + 1);
-        server.log.push(line);
-        if (server.log.length > 400) server.log.shift();
-        try {
-          const event = JSON.parse(line);
-          if (event.msg === "listening" && !server.port) {
-            server.port = event.port;
-            clearTimeout(timer);
-            resolveStart();
-          }
-        } catch {
-          // not a JSON line (usage errors are plain text)
-        }
-      }
-    });
-    server.exited.then(({ code, signal }) => {
-      clearTimeout(timer);
-      reject(new Error(`${name}: brisance serve exited (code ${code}, signal ${signal}) before listening:\n${server.log.join("\n")}`));
-    });
-  });
-  console.log(`started ${name}: brisance ${args.join(" ")} -> port ${server.port}`);
+  console.log(`started ${name}: brisance ${server.args.join(" ")} -> port ${server.port}`);
   return server;
 }
 
 async function stopServer(server) {
-  if (server.stopped) return;
-  server.stopped = true;
-  server.child.kill("SIGTERM");
-  let timer;
-  const timeout = new Promise((r) => { timer = setTimeout(() => r(null), 30000); });
-  const result = await Promise.race([server.exited, timeout]);
-  clearTimeout(timer);
-  if (!expect(result, `${server.name}: did not exit within 30 s of SIGTERM`)) {
-    server.child.kill("SIGKILL");
-    return;
-  }
+  const result = await stopBrisance(server, 30000);
+  if (!expect(result, `${server.name}: did not exit within 30 s of SIGTERM`)) return;
   console.log(`stopped ${server.name} (at ${((Date.now() - startedAt) / 1000).toFixed(1)} s)`);
   expect(result.code === 0 && result.signal === null,
          `${server.name}: exit code ${result.code} (signal ${result.signal}) after SIGTERM, expected 0`);
-  fs.rmSync(server.data, { recursive: true, force: true });
 }
 
 // ------------------------------------------------------------------------------------------

@@ -10,11 +10,13 @@
 //
 //   node dashboard.mjs PATH/TO/brisance PATH/TO/web/dist ARTIFACTS_DIR
 //   (npm ci --prefix tests/web; chromium from Debian, or BRISANCE_CHROMIUM=PATH)
-import { execFileSync, spawn } from "node:child_process";
+import { execFileSync } from "node:child_process";
 import fs from "node:fs";
 import os from "node:os";
 import path from "node:path";
 import zlib from "node:zlib";
+
+import { startServer as startBrisance, stopServer as stopBrisance } from "../support/serve.mjs";
 
 const [binary, webDist, artifacts] = process.argv.slice(2);
 const chromiumPath = process.env.BRISANCE_CHROMIUM ?? "/usr/bin/chromium";
@@ -50,57 +52,14 @@ const deadline = setTimeout(() => {
 const servers = [];
 
 async function startServer(name, extraArgs = []) {
-  const data = fs.mkdtempSync(path.join(os.tmpdir(), `brisance-web-${name}-`));
-  const args = ["serve", "--port", "0", "--data", data, "--workers", "1", "--grace-s", "2",
-                "--web-dir", webDist, ...extraArgs];
-  const child = spawn(binary, args, { stdio: ["ignore", "ignore", "pipe"] });
-  const server = { name, child, data, port: 0, log: [] };
+  const server = await startBrisance(binary, name, ["--web-dir", webDist, ...extraArgs],
+                                     { prefix: "brisance-web", grace: 2, keepLines: 200 });
   servers.push(server);
-  server.exited = new Promise((resolve) => child.on("exit", (code, signal) => resolve({ code, signal })));
-  await new Promise((resolve, reject) => {
-    let pending = "";
-    const timer = setTimeout(() => reject(new Error(`${name}: no "listening" line within 20 s`)), 20000);
-    child.stderr.on("data", (chunk) => {
-      pending += chunk.toString();
-      let newline;
-      while ((newline = pending.indexOf("\n")) >= 0) {
-        const line = pending.slice(0, newline);
-        pending = pending.slice(newline + 1);
-        server.log.push(line);
-        if (server.log.length > 200) server.log.shift();
-        try {
-          const event = JSON.parse(line);
-          if (event.msg === "listening" && !server.port) {
-            server.port = event.port;
-            clearTimeout(timer);
-            resolve();
-          }
-        } catch {
-          // not a JSON line
-        }
-      }
-    });
-    server.exited.then(({ code, signal }) => {
-      clearTimeout(timer);
-      reject(new Error(`${name}: brisance serve exited (${code ?? signal}) before listening:\n${server.log.join("\n")}`));
-    });
-  });
-  server.url = `http://127.0.0.1:${server.port}`;
-  console.log(`started ${name}: brisance ${args.join(" ")} -> ${server.url}`);
+  console.log(`started ${name}: brisance ${server.args.join(" ")} -> ${server.url}`);
   return server;
 }
 
-async function stopServer(server) {
-  if (server.stopped) return;
-  server.stopped = true;
-  server.child.kill("SIGTERM");
-  let timer;
-  const timeout = new Promise((r) => { timer = setTimeout(() => r(null), 20000); });
-  const result = await Promise.race([server.exited, timeout]);
-  clearTimeout(timer);
-  if (!result) server.child.kill("SIGKILL");
-  fs.rmSync(server.data, { recursive: true, force: true });
-}
+const stopServer = (server) => stopBrisance(server, 20000);
 
 let browser;
 async function cleanup() {

@@ -219,7 +219,13 @@ void WorkerPool::run_job(ClaimedJob claimed) {
   }
   if (!lease_lost) {
     log_event(LogLevel::info, "job finished",
-              {{"job", id}, {"status", label}, {"seconds", seconds}, {"error", error_message}});
+              error_message.empty()
+                  ? nlohmann::json{{"job", id}, {"status", label}, {"seconds", seconds}}
+                  : nlohmann::json{{"job", id},
+                                   {"status", label},
+                                   {"seconds", seconds},
+                                   {"error_type", error_type},
+                                   {"error", error_message}});
   }
   service_.unregister_running(id);
   --busy_;

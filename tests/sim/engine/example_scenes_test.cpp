@@ -10,18 +10,13 @@
 
 #include "sim/engine/simulator.hpp"
 #include "sim/scene/scene.hpp"
+#include "tests/sim/engine/scene_builder.hpp"
 
 namespace brisance::engine {
 namespace {
 
 scene::Scene load(const std::string& name) {
-  std::ifstream in(std::string(BRISANCE_SOURCE_DIR) + "/scenes/" + name);
-  std::stringstream text;
-  text << in.rdbuf();
-  const scene::ParseResult parsed = scene::parse_scene_text(text.str());
-  EXPECT_TRUE(parsed.errors.empty())
-      << name << ": " << parsed.errors.front().pointer << " " << parsed.errors.front().message;
-  return *parsed.scene;
+  return testing::load_example_scene(name);
 }
 
 std::set<std::string> moved(const Result& r) {

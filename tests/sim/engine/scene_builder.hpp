@@ -1,12 +1,30 @@
 // Builds scenes in code for engine tests and benchmarks (the JSON parser is tested elsewhere).
 #pragma once
 
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
 #include <string>
 
 #include "sim/geometry/mesh.hpp"
 #include "sim/scene/scene.hpp"
 
 namespace brisance::testing {
+
+#ifdef BRISANCE_SOURCE_DIR
+// scenes/NAME parsed; a scene that does not parse throws, so the test fails with its errors.
+inline scene::Scene load_example_scene(const std::string& name) {
+  std::ifstream in(std::string(BRISANCE_SOURCE_DIR) + "/scenes/" + name);
+  std::stringstream text;
+  text << in.rdbuf();
+  scene::ParseResult parsed = scene::parse_scene_text(text.str());
+  if (!parsed.scene) {
+    throw std::runtime_error(name + ": " + parsed.errors.front().pointer + " " +
+                             parsed.errors.front().message);
+  }
+  return std::move(*parsed.scene);
+}
+#endif
 
 inline scene::ObjectSpec box_object(const std::string& name, const Eigen::Vector3d& size,
                                     const Eigen::Vector3d& position, double mass) {

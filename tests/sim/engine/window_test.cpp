@@ -16,6 +16,7 @@
 #include "sim/fracture/pane.hpp"
 #include "sim/geometry/mesh.hpp"
 #include "sim/scene/scene.hpp"
+#include "tests/sim/engine/scene_builder.hpp"
 
 namespace brisance::engine {
 namespace {
@@ -23,13 +24,7 @@ namespace {
 using Vec3 = Eigen::Vector3d;
 
 scene::Scene load(const std::string& name) {
-  std::ifstream in(std::string(BRISANCE_SOURCE_DIR) + "/scenes/" + name);
-  std::stringstream text;
-  text << in.rdbuf();
-  const scene::ParseResult parsed = scene::parse_scene_text(text.str());
-  EXPECT_TRUE(parsed.errors.empty())
-      << name << ": " << parsed.errors.front().pointer << " " << parsed.errors.front().message;
-  return *parsed.scene;
+  return testing::load_example_scene(name);
 }
 
 // A 1.2 m x 0.9 m x 6 mm annealed pane centred at (0, 1.5, 0), front face +z, no ground, and

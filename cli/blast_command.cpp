@@ -1,6 +1,4 @@
 // `brisance blast`: the blast calculator on the command line.
-#include <cmath>
-#include <numbers>
 #include <ostream>
 #include <string>
 
@@ -8,9 +6,7 @@
 
 #include "cli/commands.hpp"
 #include "cli/text.hpp"
-#include "sim/blast/blast_point.hpp"
 #include "sim/blast/explosives.hpp"
-#include "sim/blast/reflection.hpp"
 #include "sim/io/blast_json.hpp"
 
 namespace brisance::cli {
@@ -34,76 +30,35 @@ constexpr std::string_view kHelp =
     "  --json              one JSON object instead of the table\n";
 
 struct BlastRequest {
-  double charge_kg = 0.0;
-  double distance_m = 0.0;
-  std::string explosive_name = "TNT";
-  double tnt_factor = 1.0;
-  blast::Charge charge;
-  double angle_deg = 0.0;
+  io::BlastQuery query;
   bool json = false;
 };
 
-double positive(const ParsedFlags& flags, std::string_view name, bool required) {
-  const auto value = flags.number(name);
-  if (!value) {
-    if (required) flags.fail("--" + std::string(name) + " is required (see --help)");
-    return 0.0;
-  }
-  if (!(*value > 0.0))
-    flags.fail("--" + std::string(name) + " must be greater than 0, got " +
-               text::printf("%g", *value));
-  return *value;
+// The calculator's parameters are spelled with dashes on the command line (--charge-kg).
+std::string dashed(std::string_view name) {
+  std::string flag(name);
+  for (char& c : flag)
+    if (c == '_') c = '-';
+  return flag;
 }
 
 BlastRequest parse(const ParsedFlags& flags) {
   BlastRequest request;
   if (!flags.positional().empty())
     flags.fail("unexpected argument '" + std::string(flags.positional().front()) + "'");
-  request.charge_kg = positive(flags, "charge-kg", true);
-  request.distance_m = positive(flags, "distance-m", true);
-  if (flags.has("explosive") && flags.has("tnt-factor"))
-    flags.fail("give either --explosive or --tnt-factor, not both");
-  if (flags.has("tnt-factor")) {
-    request.tnt_factor = positive(flags, "tnt-factor", true);
-    request.explosive_name = "custom";
-  } else if (const auto name = flags.value("explosive")) {
-    const auto explosive = blast::find_explosive(*name);
-    if (!explosive)
-      flags.fail("unknown explosive '" + std::string(*name) +
-                 "'; known: " + blast::known_explosive_names() + " (or use --tnt-factor)");
-    request.explosive_name = explosive->name;
-    request.tnt_factor = explosive->tnt_factor;
-  }
-  if (const auto burst = flags.value("burst")) {
-    if (*burst == "air") {
-      request.charge.burst = blast::Burst::air;
-    } else if (*burst == "surface") {
-      request.charge.burst = blast::Burst::surface;
-    } else {
-      flags.fail("--burst must be 'air' or 'surface', got '" + std::string(*burst) + "'");
-    }
-  }
-  if (const auto model = flags.value("surface-model")) {
-    if (*model == "hemispherical") {
-      request.charge.surface_model = blast::SurfaceBurstModel::hemispherical;
-    } else if (*model == "factor_1_8") {
-      request.charge.surface_model = blast::SurfaceBurstModel::factor_1_8;
-    } else {
-      flags.fail("--surface-model must be 'hemispherical' or 'factor_1_8', got '" +
-                 std::string(*model) + "'");
-    }
-  }
-  if (const auto angle = flags.number("angle-deg")) {
-    if (*angle < 0.0 || *angle > 90.0)
-      flags.fail("--angle-deg must be between 0 and 90, got " + text::printf("%g", *angle));
-    request.angle_deg = *angle;
-  }
+  const auto lookup = [&](std::string_view name) -> std::optional<std::string> {
+    const auto value = flags.value(dashed(name));
+    if (!value) return std::nullopt;
+    return std::string(*value);
+  };
+  const auto spell = [](std::string_view name) { return "--" + dashed(name); };
+  if (const auto error = io::parse_blast_query(lookup, spell, request.query))
+    flags.fail(error->message);
   request.json = flags.has("json");
-  request.charge.tnt_equivalent_kg = request.charge_kg * request.tnt_factor;
   return request;
 }
 
-void print_table(std::ostream& out, const BlastRequest& request, const blast::BlastPoint& point,
+void print_table(std::ostream& out, const io::BlastQuery& request, const blast::BlastPoint& point,
                  const blast::ObliqueReflection& reflection) {
   const bool surface = request.charge.burst == blast::Burst::surface;
   const char* model = !surface ? "free-air spherical burst"
@@ -162,13 +117,11 @@ int run_blast(const Args& args, std::ostream& out) {
     return kExitOk;
   }
   const BlastRequest request = parse(flags);
-  const blast::BlastPoint point = blast::blast_point(request.charge, request.distance_m);
-  const blast::ObliqueReflection reflection =
-      io::reflect(point, request.angle_deg * std::numbers::pi / 180.0);
+  const io::BlastAnswer answer = io::calculate_blast(request.query);
   if (request.json) {
-    out << io::blast_report_json(point, reflection).dump(2) << "\n";
+    out << io::blast_report_json(answer.point, answer.reflection).dump(2) << "\n";
   } else {
-    print_table(out, request, point, reflection);
+    print_table(out, request.query, answer.point, answer.reflection);
   }
   return kExitOk;
 }

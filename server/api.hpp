@@ -12,37 +12,11 @@
 #include <vector>
 
 #include "server/api_keys.hpp"
+#include "server/http_types.hpp"
 #include "server/job_service.hpp"
 #include "server/metrics.hpp"
 
 namespace brisance::server {
-
-struct HttpRequest {
-  std::string method;                                        // "GET", "POST", ...
-  std::string target;                                        // path and query, as sent
-  std::vector<std::pair<std::string, std::string>> headers;  // names lower-case
-  std::string body;
-  std::string request_id;
-
-  std::string_view header(std::string_view lower_case_name) const;
-};
-
-// A GET /v1/jobs/{id}?wait=S that has nothing new yet: the server waits for the job to change
-// (ChangeNotifier) or the deadline, then calls Api::handle again with this state.
-struct LongPoll {
-  std::string job_id;
-  std::string etag;  // the state the client is waiting to see change
-  std::chrono::steady_clock::time_point deadline;
-};
-
-struct HttpResponse {
-  int status = 200;
-  std::string content_type = "application/json";
-  std::string body;
-  std::vector<std::pair<std::string, std::string>> headers;
-  std::string route = "unmatched";  // route template, for metrics and logs
-  std::optional<LongPoll> wait;     // set: not a response yet, wait and ask again
-};
 
 struct ApiOptions {
   std::size_t body_limit_bytes = 16 * 1024 * 1024;  // for the 413 problem's detail
@@ -64,7 +38,9 @@ class Api {
                               std::string_view detail);
 
  private:
-  HttpResponse route(const HttpRequest& request, const std::optional<LongPoll>& poll);
+  // Finds and runs the handler; `label` gets the matched route template.
+  HttpResponse route(const HttpRequest& request, const std::optional<LongPoll>& poll,
+                     std::string& label);
 
   JobService& service_;
   Metrics& metrics_;

@@ -150,7 +150,18 @@ class HttpServer::Impl::Session : public std::enable_shared_from_this<Session> {
   }
 
   void handle(const std::optional<LongPoll>& poll) {
-    HttpResponse r = server_.api.handle(request_, poll);
+    HttpResponse r;
+    try {
+      r = server_.api.handle(request_, poll);
+    } catch (...) {
+      // Api::handle answers every failure itself; this is the last line, so that no request can
+      // end the process from an I/O thread.
+      r = Api::problem(500, "internal-error", "Internal error",
+                       "the server failed to answer this request; the request id is in the "
+                       "X-Request-Id header and the server log");
+      log_event(LogLevel::error, "request failed outside the API",
+                {{"request_id", request_.request_id}});
+    }
     if (r.wait) return park(std::move(*r.wait));
     respond(std::move(r));
   }

@@ -69,6 +69,8 @@ class JobService {
   CancelOutcome cancel(const std::string& id);
   bool remove(const std::string& id);
 
+  // The scene JSON a job was submitted with.
+  std::optional<std::string> scene(std::string_view id) { return storage_.scene(id); }
   std::optional<std::string> result_summary(std::string_view id) {
     return storage_.result_summary(id);
   }

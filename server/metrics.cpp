@@ -78,8 +78,14 @@ Metrics::Metrics() : job_run_time_(kRunTimeBuckets) {}
 
 void Metrics::record_request(std::string_view route, std::string_view method, int status,
                              double seconds) {
+  // Labels come from a closed set (the route table's templates and the methods HTTP defines), so
+  // requests with made-up methods cannot grow the metrics without bound.
+  static constexpr std::string_view kMethods[] = {"GET",     "HEAD",    "POST",  "PUT",  "DELETE",
+                                                  "OPTIONS", "CONNECT", "TRACE", "PATCH"};
+  const bool known =
+      std::find(std::begin(kMethods), std::end(kMethods), method) != std::end(kMethods);
   std::lock_guard lock(mutex_);
-  ++requests_[{std::string(route), std::string(method), status}];
+  ++requests_[{std::string(route), known ? std::string(method) : std::string("other"), status}];
   auto it = latency_.find(route);
   if (it == latency_.end())
     it = latency_.emplace(std::string(route), Histogram(kLatencyBuckets)).first;

@@ -1,4 +1,4 @@
-// server/sha256: SHA-256 (FIPS 180-4), for hashing API keys at rest and idempotent request bodies.
+// server/sha256: SHA-256 (FIPS 180-4, from libcrypto), for hashing API keys at rest and ETags.
 #pragma once
 
 #include <array>

@@ -1,6 +1,12 @@
-// sim/io/blast_json: the blast calculator's JSON object (DESIGN.md "The blast calculator's JSON
-// fields"), shared by `brisance blast --json` and `GET /v1/blast` so both give the same fields.
+// sim/io/blast_json: the blast calculator — its parameters and its JSON object (DESIGN.md "The
+// blast calculator's JSON fields") — shared by `brisance blast` and `GET /v1/blast`, so both take
+// the same parameters, check them with the same messages and answer with the same fields.
 #pragma once
+
+#include <functional>
+#include <optional>
+#include <string>
+#include <string_view>
 
 #include <nlohmann/json.hpp>
 
@@ -8,6 +14,38 @@
 #include "sim/blast/reflection.hpp"
 
 namespace brisance::io {
+
+// What the calculator is asked: a charge at a distance, seen at an angle of incidence.
+struct BlastQuery {
+  double charge_kg = 0.0;
+  double distance_m = 0.0;
+  std::string explosive_name = "TNT";  // "custom" when a TNT factor was given
+  double tnt_factor = 1.0;
+  blast::Charge charge;  // burst, surface model and TNT equivalent
+  double angle_deg = 0.0;
+};
+
+// A parameter the calculator cannot use: its name (as the caller spells it) and what to fix.
+struct BlastQueryError {
+  std::string parameter;
+  std::string message;
+};
+
+// Reads the calculator's parameters — charge_kg, distance_m, explosive or tnt_factor, burst,
+// surface_model, angle_deg — through `lookup` (the text given for a parameter, or nullopt), and
+// checks them. `spell` turns a parameter's name into the caller's spelling for messages
+// ("--charge-kg" on the command line, "'charge_kg'" over HTTP). Returns the first problem, or
+// nullopt with `query` filled in.
+std::optional<BlastQueryError> parse_blast_query(
+    const std::function<std::optional<std::string>(std::string_view name)>& lookup,
+    const std::function<std::string(std::string_view name)>& spell, BlastQuery& query);
+
+// The blast point of the query and its reflection at the query's angle.
+struct BlastAnswer {
+  blast::BlastPoint point;
+  blast::ObliqueReflection reflection;
+};
+BlastAnswer calculate_blast(const BlastQuery& query);
 
 // The blast point and its reflection at the given angle of incidence, in engineering units.
 nlohmann::ordered_json blast_report_json(const blast::BlastPoint& point,

@@ -397,6 +397,90 @@ TEST(Api, BlastCalculatorAndExplosivesMatchTheCli) {
   EXPECT_EQ(explosives.at("explosives")[0].at("name"), "TNT");
 }
 
+// GET /v1/blast and `brisance blast` read their parameters with one parser: the TNT factor and
+// the surface-burst model are query parameters too, with the CLI's meaning.
+TEST(Api, BlastTakesTheCliParametersWithTheirMeaning) {
+  TestServer server(with_workers(0));
+  const json factor = server.get_json("/v1/blast?charge_kg=10&distance_m=8&tnt_factor=1.37");
+  EXPECT_DOUBLE_EQ(factor.at("tnt_equivalent_kg").get<double>(), 13.7);
+  const json c4 = server.get_json("/v1/blast?charge_kg=10&distance_m=8&explosive=C4");
+  EXPECT_DOUBLE_EQ(c4.at("tnt_equivalent_kg").get<double>(), 13.7);
+  EXPECT_EQ(c4.at("incident_overpressure_kpa"), factor.at("incident_overpressure_kpa"));
+  const json hemi = server.get_json("/v1/blast?charge_kg=10&distance_m=8&burst=surface");
+  const json shortcut =
+      server.get_json("/v1/blast?charge_kg=10&distance_m=8&burst=surface&surface_model=factor_1_8");
+  const json free_air_18 = server.get_json("/v1/blast?charge_kg=18&distance_m=8");
+  EXPECT_NE(hemi.at("incident_overpressure_kpa"), shortcut.at("incident_overpressure_kpa"));
+  EXPECT_EQ(shortcut.at("incident_overpressure_kpa"), free_air_18.at("incident_overpressure_kpa"));
+  for (const auto& [query, parameter] : std::vector<std::pair<std::string, std::string>>{
+           {"charge_kg=1&distance_m=5&tnt_factor=0", "tnt_factor"},
+           {"charge_kg=1&distance_m=5&tnt_factor=1.2&explosive=RDX", "tnt_factor"},
+           {"charge_kg=1&distance_m=5&burst=surface&surface_model=flat", "surface_model"}}) {
+    const ClientResponse r = server.request("GET", "/v1/blast?" + query);
+    EXPECT_EQ(r.status, 400) << query;
+    EXPECT_EQ(json::parse(r.body).at("errors")[0].at("parameter"), parameter) << query;
+  }
+}
+
+// No bytes a client sends can end the process or break a problem body: what a detail echoes is
+// repaired to valid UTF-8.
+TEST(Api, AnyBytesInTargetsGiveProblemsNotCrashes) {
+  TestServer server(with_workers(0));
+  const ClientResponse bad_name =
+      server.request("GET", "/v1/blast?charge_kg=1&distance_m=10&explosive=%ff");
+  EXPECT_EQ(bad_name.status, 400);
+  const json problem = json::parse(bad_name.body);  // valid JSON, hence valid UTF-8
+  EXPECT_EQ(problem.at("errors")[0].at("parameter"), "explosive");
+  EXPECT_NE(problem.at("detail").get<std::string>().find("\xEF\xBF\xBD"), std::string::npos);
+  for (const std::string path : {"/v1/jobs/%ff%fe", "/v1/jobs/%c3%28/result", "/v1/jobs/j%00x"}) {
+    const ClientResponse r = server.request("GET", path);
+    EXPECT_EQ(r.status, 404) << path;
+    EXPECT_TRUE(json::accept(r.body)) << path;
+  }
+  const ClientResponse invalid = server.request("GET", "/v1/jobs/%zz");
+  EXPECT_EQ(invalid.status, 400);
+  EXPECT_EQ(json::parse(invalid.body).at("type"), "urn:brisance:problem:bad-request");
+  EXPECT_EQ(server.request("GET", "/healthz").status, 200);  // still serving
+}
+
+TEST(Api, RouteTableAnswers405WithAllowAnd404OutsideIt) {
+  TestServer server(with_workers(0));
+  const ClientResponse put = server.request("PUT", "/v1/jobs");
+  EXPECT_EQ(put.status, 405);
+  EXPECT_EQ(put.header("allow"), "GET, HEAD, POST");
+  const ClientResponse post_job = server.request("POST", "/v1/jobs/j1");
+  EXPECT_EQ(post_job.status, 405);
+  EXPECT_EQ(post_job.header("allow"), "GET, HEAD, DELETE");
+  EXPECT_EQ(server.request("POST", "/healthz").header("allow"), "GET, HEAD");
+  EXPECT_EQ(server.request("GET", "/v1/nothing-here").status, 404);
+  EXPECT_EQ(server.request("GET", "/v1/jobs/j1/nothing").status, 404);
+  // A "+" in a path is a plus sign, not a space; "%2F" stays inside its segment.
+  const ClientResponse plus = server.request("GET", "/v1/jobs/a+b");
+  EXPECT_EQ(plus.status, 404);
+  EXPECT_NE(json::parse(plus.body).at("detail").get<std::string>().find("'a+b'"),
+            std::string::npos);
+  const ClientResponse slash = server.request("GET", "/v1/jobs/a%2Fb");
+  EXPECT_EQ(slash.status, 404);
+  EXPECT_NE(json::parse(slash.body).at("detail").get<std::string>().find("'a/b'"),
+            std::string::npos);
+  // In a query, "+" is a space, as forms send it: "queued+" is not a status.
+  EXPECT_EQ(server.request("GET", "/v1/jobs?status=queued+").status, 400);
+}
+
+// Metrics label requests by route template and known method only, so made-up paths and methods
+// cannot grow them.
+TEST(Api, MetricsLabelsComeFromAClosedSet) {
+  TestServer server(with_workers(0));
+  for (int i = 0; i < 20; ++i)
+    server.request("GET", "/v1/random-" + std::to_string(i));
+  server.request("FROBNICATE", "/v1/jobs");
+  const std::string metrics = server.request("GET", "/metrics").body;
+  EXPECT_EQ(metrics.find("random-"), std::string::npos);
+  EXPECT_EQ(metrics.find("FROBNICATE"), std::string::npos);
+  EXPECT_NE(metrics.find("route=\"unmatched\",method=\"GET\",status=\"404\""), std::string::npos);
+  EXPECT_NE(metrics.find("method=\"other\""), std::string::npos);
+}
+
 TEST(Api, MetricsCountRequestsAndJobs) {
   TestServer server;
   const std::string id = submit(server, quick_scene());

@@ -357,7 +357,8 @@ export interface paths {
          * @description Blast-wave parameters at a distance from a charge, from the Kingery-Bulmash fits:
          *     free-air spherical (`burst=air`) or hemispherical surface burst (`burst=surface`),
          *     reflected at `angle_deg` from the normal. The same fields as
-         *     `brisance blast --charge-kg M --distance-m R --json`. Outside the fits' validity range
+         *     `brisance blast --charge-kg M --distance-m R --json`, with the same parameters and checks
+         *     (one parser serves both). Outside the fits' validity range
          *     (or the reflection chart's) `in_validity_range` is false.
          */
         get: operations["getBlast"];
@@ -2575,8 +2576,20 @@ export interface operations {
                  * @example Composition C-4
                  */
                 explosive?: string;
+                /**
+                 * @description A custom TNT equivalence factor (kg TNT per kg, > 0) instead of a named `explosive`
+                 *     (not both), as `brisance blast --tnt-factor`.
+                 * @example 1.37
+                 */
+                tnt_factor?: number;
                 /** @description Free-air (`air`) or surface (`surface`) burst. */
                 burst?: "air" | "surface";
+                /**
+                 * @description Surface bursts: the hemispherical Kingery-Bulmash curves (`hemispherical`) or the
+                 *     older shortcut of the free-air curves with 1.8 x the charge (`factor_1_8`), as
+                 *     `brisance blast --surface-model`.
+                 */
+                surface_model?: "hemispherical" | "factor_1_8";
                 /** @description Angle of incidence from the surface normal, degrees. */
                 angle_deg?: number;
             };

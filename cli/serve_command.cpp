@@ -44,6 +44,8 @@ constexpr std::string_view kHelp =
     "[BRISANCE_IO_THREADS]\n"
     "  --body-limit-mb M    largest request body, MiB (default 16)          "
     "[BRISANCE_BODY_LIMIT_MB]\n"
+    "  --max-connections N  open connections; more get 503 (default 1024) "
+    "[BRISANCE_MAX_CONNECTIONS]\n"
     "  --job-timeout-s S    wall-clock limit per job run, 0 none (600)      "
     "[BRISANCE_JOB_TIMEOUT_S]\n"
     "  --max-attempts N     runs a job may crash before it fails (3)        "
@@ -111,6 +113,7 @@ int run_serve(const Args& args, std::ostream& out) {
                            {"api-keys"},
                            {"io-threads"},
                            {"body-limit-mb"},
+                           {"max-connections"},
                            {"job-timeout-s"},
                            {"max-attempts"},
                            {"retention-h"},
@@ -134,6 +137,8 @@ int run_serve(const Args& args, std::ostream& out) {
       static_cast<std::uint16_t>(integer_setting(flags, "port", "BRISANCE_PORT", 8080, 0, 65535));
   http.io_threads =
       static_cast<int>(integer_setting(flags, "io-threads", "BRISANCE_IO_THREADS", 4, 1, 64));
+  http.max_connections = static_cast<std::size_t>(
+      integer_setting(flags, "max-connections", "BRISANCE_MAX_CONNECTIONS", 1024, 1, 1000000));
   http.body_limit_bytes = static_cast<std::size_t>(
       number_setting(flags, "body-limit-mb", "BRISANCE_BODY_LIMIT_MB", 16, 0.001, 4096) * 1024 *
       1024);

@@ -1,5 +1,6 @@
 #include "server/http_server.hpp"
 
+#include <algorithm>
 #include <atomic>
 #include <mutex>
 #include <random>
@@ -64,7 +65,13 @@ struct HttpServer::Impl {
   Impl(Api& a, JobService& s, Metrics& m, HttpOptions o)
       : api(a), service(s), metrics(m), options(std::move(o)) {}
 
+  // Connections refused above the cap since start.
+  std::atomic<std::uint64_t> rejected_connections{0};
+  asio::steady_timer accept_timer{ioc};
+  std::chrono::milliseconds accept_backoff{0};
+
   void accept();
+  void reject(tcp::socket socket);
   void remove(const std::shared_ptr<Session>& session) {
     std::lock_guard lock(sessions_mutex);
     sessions.erase(session);
@@ -134,6 +141,17 @@ class HttpServer::Impl::Session : public std::enable_shared_from_this<Session> {
       return respond(std::move(r));
     }
     auto& message = parser_->get();
+    if (message.find(http::field::transfer_encoding) != message.end() && !message.chunked()) {
+      // RFC 9112 §6.1: a request whose final transfer coding is not chunked has no length the
+      // server can know; answering it and reading on would take its body for the next request.
+      keep_alive_ = false;
+      request_ = HttpRequest{};
+      request_.request_id = request_id_for({});
+      request_.method = std::string(message.method_string());
+      return respond(Api::problem(400, "bad-request", "Malformed HTTP request",
+                                  "a request's Transfer-Encoding must end in 'chunked' "
+                                  "(RFC 9112 §6.1)"));
+    }
     request_ = HttpRequest{};
     request_.method = std::string(message.method_string());
     request_.target = std::string(message.target());
@@ -262,18 +280,60 @@ void HttpServer::Impl::accept() {
   acceptor.async_accept(asio::make_strand(ioc), [this](beast::error_code ec, tcp::socket socket) {
     if (ec) {
       if (ec == asio::error::operation_aborted || !acceptor.is_open()) return;
-      log_event(LogLevel::warn, "accept failed", {{"error", ec.message()}});
-    } else if (!draining) {
+      // Out of file descriptors (or another transient failure): wait before accepting again,
+      // doubling the wait up to a second, so a full descriptor table does not spin the loop.
+      accept_backoff = std::clamp(accept_backoff * 2, std::chrono::milliseconds(10),
+                                  std::chrono::milliseconds(1000));
+      log_event(LogLevel::warn, "accept failed",
+                {{"error", ec.message()}, {"retry_ms", accept_backoff.count()}});
+      accept_timer.expires_after(accept_backoff);
+      accept_timer.async_wait([this](beast::error_code wait_ec) {
+        if (!wait_ec && !draining) accept();
+      });
+      return;
+    }
+    accept_backoff = std::chrono::milliseconds(0);
+    if (!draining) {
       beast::error_code ignored;
       socket.set_option(tcp::no_delay(true), ignored);
-      auto session = std::make_shared<Session>(*this, std::move(socket));
+      std::size_t open = 0;
       {
         std::lock_guard lock(sessions_mutex);
-        sessions.insert(session);
+        open = sessions.size();
       }
-      session->start();
+      if (open >= options.max_connections) {
+        reject(std::move(socket));
+      } else {
+        auto session = std::make_shared<Session>(*this, std::move(socket));
+        {
+          std::lock_guard lock(sessions_mutex);
+          sessions.insert(session);
+        }
+        session->start();
+      }
     }
     if (!draining) accept();
+  });
+}
+
+// Above the connection cap: a 503 problem and close, without reading the request.
+void HttpServer::Impl::reject(tcp::socket socket) {
+  ++rejected_connections;
+  const HttpResponse problem =
+      Api::problem(503, "overloaded", "Too many connections",
+                   "the server holds its maximum of " + std::to_string(options.max_connections) +
+                       " connections; retry after the Retry-After delay");
+  auto text = std::make_shared<std::string>(
+      "HTTP/1.1 503 Service Unavailable\r\nServer: " + options.server_name +
+      "\r\nContent-Type: application/problem+json\r\nRetry-After: 1\r\nConnection: close"
+      "\r\nContent-Length: " +
+      std::to_string(problem.body.size()) + "\r\n\r\n" + problem.body);
+  auto stream = std::make_shared<beast::tcp_stream>(std::move(socket));
+  stream->expires_after(std::chrono::seconds(5));
+  asio::async_write(*stream, asio::buffer(*text), [stream, text](beast::error_code, std::size_t) {
+    beast::error_code ignored;
+    stream->socket().shutdown(tcp::socket::shutdown_send, ignored);
+    stream->socket().close(ignored);
   });
 }
 
@@ -328,6 +388,7 @@ void HttpServer::stop(std::chrono::milliseconds drain) {
   asio::post(i.ioc, [&i] {
     beast::error_code ignored;
     i.acceptor.close(ignored);
+    i.accept_timer.cancel();
   });
   std::vector<std::shared_ptr<Impl::Session>> sessions;
   {

@@ -20,6 +20,8 @@ struct HttpOptions {
   std::size_t body_limit_bytes = 16 * 1024 * 1024;
   std::chrono::seconds read_timeout{30};  // a request must arrive whole within this
   std::chrono::seconds idle_timeout{60};  // a keep-alive connection may sit idle this long
+  // Open connections at most; one more is answered 503 `overloaded` and closed at once.
+  std::size_t max_connections = 1024;
   std::string server_name = "brisance";
 };
 

@@ -385,6 +385,42 @@ TEST(Api, MalformedHttpIsA400AndTheConnectionCloses) {
   EXPECT_TRUE(connection.closed_by_server());
 }
 
+// RFC 9112 §6.1: a request whose final transfer coding is not chunked is a 400 and the
+// connection closes, so what follows it is never served as a second request.
+TEST(Api, TransferEncodingOtherThanChunkedIsA400AndCloses) {
+  TestServer server(with_workers(0));
+  for (const std::string coding : {"identity", "gzip", "xchunked", "chunked, gzip"}) {
+    Connection connection(server.port());
+    const ClientResponse r =
+        connection.raw("GET /healthz HTTP/1.1\r\nHost: x\r\nTransfer-Encoding: " + coding +
+                       "\r\n\r\nGET /v1/queue HTTP/1.1\r\nHost: x\r\n\r\n");
+    EXPECT_EQ(r.status, 400) << coding;
+    EXPECT_TRUE(connection.closed_by_server()) << coding;
+  }
+  Connection chunked(server.port());
+  EXPECT_EQ(
+      chunked.raw("GET /healthz HTTP/1.1\r\nHost: x\r\nTransfer-Encoding: chunked\r\n\r\n0\r\n\r\n")
+          .status,
+      200);
+}
+
+TEST(Api, ConnectionsAboveTheCapGet503AndClose) {
+  TestServerOptions options = with_workers(0);
+  options.max_connections = 2;
+  TestServer server(options);
+  Connection first(server.port());
+  Connection second(server.port());
+  EXPECT_EQ(first.request("GET", "/healthz").status, 200);
+  EXPECT_EQ(second.request("GET", "/healthz").status, 200);
+  Connection third(server.port());
+  const ClientResponse refused = third.request("GET", "/healthz");
+  EXPECT_EQ(refused.status, 503);
+  EXPECT_EQ(json::parse(refused.body).at("type"), "urn:brisance:problem:overloaded");
+  EXPECT_EQ(refused.header("retry-after"), "1");
+  EXPECT_TRUE(third.closed_by_server());
+  EXPECT_EQ(first.request("GET", "/healthz").status, 200);  // the open ones keep working
+}
+
 TEST(Api, BlastCalculatorAndExplosivesMatchTheCli) {
   TestServer server(with_workers(0));
   const json blast = server.get_json("/v1/blast?charge_kg=100&distance_m=15");

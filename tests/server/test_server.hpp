@@ -46,6 +46,7 @@ struct TestServerOptions {
   std::size_t body_limit_bytes = 1 << 20;
   std::string api_keys;  // keys-file text; empty: no keys
   std::chrono::milliseconds lease{15000};
+  std::size_t max_connections = 1024;
 };
 
 inline TestServerOptions with_workers(int workers) {
@@ -79,6 +80,7 @@ class TestServer {
     server::HttpOptions http;
     http.port = 0;
     http.body_limit_bytes = options.body_limit_bytes;
+    http.max_connections = options.max_connections;
     http_ = std::make_unique<server::HttpServer>(*api_, *service_, metrics_, http);
     http_->listen();
     pool_->start();

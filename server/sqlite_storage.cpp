@@ -143,6 +143,13 @@ class Connection {
     exec("PRAGMA foreign_keys = ON");
     // Reads map the file instead of copying pages (256 MiB of address space per connection).
     exec("PRAGMA mmap_size = 268435456");
+    if (options.max_size_bytes > 0) {
+      // max_page_count is per connection; every connection of the store applies it.
+      const std::string pragma =
+          "PRAGMA max_page_count = " +
+          std::to_string(std::max<std::int64_t>(1, options.max_size_bytes / 4096));
+      exec(pragma.c_str());
+    }
   }
   Connection(const Connection&) = delete;
   Connection& operator=(const Connection&) = delete;

@@ -99,6 +99,12 @@ void WorkerPool::stop(std::chrono::milliseconds grace) {
 void WorkerPool::work() {
   std::uint64_t seen = 0;
   while (!stopping_) {
+    {
+      // After the store failed to take a result, wait before claiming again: the job is back in
+      // the queue and would otherwise be run again at once against the same full disk.
+      std::unique_lock lock(mutex_);
+      if (wake_.wait_until(lock, claim_pause_until_, [this] { return stopping_.load(); })) break;
+    }
     std::optional<ClaimedJob> claimed;
     try {
       claimed = service_.storage().claim_next(owner_, now_ms(), options_.lease.count());
@@ -133,6 +139,7 @@ void WorkerPool::run_job(ClaimedJob claimed) {
   auto last_progress = started;
   bool lease_lost = false;
   bool timed_out = false;
+  bool store_failed = false;
   JobStatus outcome = JobStatus::failed;
   std::string error_type, error_message;
 
@@ -178,9 +185,17 @@ void WorkerPool::run_job(ClaimedJob claimed) {
       engine::RunOutcome run = engine::simulate(*parsed.scene, hooks);
       if (!run.cancelled) {
         const StoredResult stored = to_stored_result(run.result);
-        outcome = storage.complete(id, owner_, stored, now_ms()) ? JobStatus::succeeded
-                                                                 : JobStatus::queued;
-        if (outcome == JobStatus::queued) lease_lost = true;
+        try {
+          outcome = storage.complete(id, owner_, stored, now_ms()) ? JobStatus::succeeded
+                                                                   : JobStatus::queued;
+          if (outcome == JobStatus::queued) lease_lost = true;
+        } catch (const StorageError& error) {
+          // Not the job's fault (a full disk, say): it goes back to the queue without counting
+          // the attempt, and this worker waits before it claims again.
+          store_failed = true;
+          log_event(LogLevel::warn, "cannot store the job's result; it goes back to the queue",
+                    {{"job", id}, {"error", error.what()}});
+        }
       } else if (timed_out) {
         error_type = "timeout";
         error_message = "the run exceeded the job time limit of " +
@@ -205,6 +220,11 @@ void WorkerPool::run_job(ClaimedJob claimed) {
     } else if (outcome == JobStatus::cancelled) {
       storage.finish_cancelled(id, owner_, now_ms());
       metrics_.record_job(outcome, seconds);
+    } else if (store_failed) {
+      storage.release(id, owner_, now_ms());
+      label = "requeued (its result could not be stored)";
+      std::lock_guard lock(mutex_);
+      claim_pause_until_ = Clock::now() + options_.store_failure_pause;
     } else if (error_type.empty() && abort_) {
       storage.release(id, owner_, now_ms());
       label = "requeued (shutting down)";

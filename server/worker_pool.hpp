@@ -24,6 +24,9 @@ struct WorkerOptions {
   std::chrono::milliseconds progress_interval{250};
   double job_timeout_s = 600.0;          // 0: no limit
   std::chrono::hours retention{24 * 7};  // finished jobs kept this long; 0: forever
+  // After the store failed to take a job's result (a full disk), the job goes back to the queue
+  // and the worker waits this long before claiming again.
+  std::chrono::milliseconds store_failure_pause{5000};
 };
 
 class WorkerPool {
@@ -67,6 +70,7 @@ class WorkerPool {
   std::condition_variable wake_;
   std::uint64_t signals_ = 0;
   std::set<std::string> running_ids_;
+  std::chrono::steady_clock::time_point claim_pause_until_{};  // see store_failure_pause
 };
 
 }  // namespace brisance::server

@@ -421,6 +421,38 @@ TEST(Api, ConnectionsAboveTheCapGet503AndClose) {
   EXPECT_EQ(first.request("GET", "/healthz").status, 200);  // the open ones keep working
 }
 
+// A store that cannot take a result (here: a database capped below the result's size, which
+// fails as a full disk does) is not the job's fault: the job goes back to the queue, never ends
+// failed, and no SQL text reaches the client.
+TEST(Api, AResultTheStoreCannotTakeSendsTheJobBackToTheQueue) {
+  TestServerOptions options;
+  options.max_db_bytes = 192 * 1024;
+  options.store_failure_pause = std::chrono::milliseconds(100);
+  TestServer server(options);
+  const json scene = json::parse(R"({
+    "charges": [{"position": [0, 0.5, 0], "mass": 5}],
+    "generators": [{"type": "blocks", "name": "b", "counts": [10, 1, 10], "size": [0.2, 0.2, 0.2],
+                    "spacing": [0.05, 0, 0.05], "density": 300, "position": [0, 0, 3]}],
+    "simulation": {"duration": 1, "frame_rate": 100}})");
+  const std::string id = submit(server, scene);
+  bool ran = false, requeued = false;
+  const auto deadline = Clock::now() + std::chrono::seconds(60);
+  while (Clock::now() < deadline && !requeued) {
+    const json job = server.get_json("/v1/jobs/" + id);
+    ASSERT_NE(job.at("status"), "failed") << job.dump();
+    ASSERT_NE(job.at("status"), "succeeded") << job.dump();
+    ASSERT_TRUE(job.at("error").is_null()) << job.dump();
+    if (job.at("status") == "running") ran = true;
+    if (ran && job.at("status") == "queued") {
+      requeued = true;
+      EXPECT_EQ(job.at("attempts").get<int>(), 0) << "a storage failure does not count an attempt";
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  EXPECT_TRUE(ran);
+  EXPECT_TRUE(requeued);
+}
+
 TEST(Api, BlastCalculatorAndExplosivesMatchTheCli) {
   TestServer server(with_workers(0));
   const json blast = server.get_json("/v1/blast?charge_kg=100&distance_m=15");

@@ -47,6 +47,8 @@ struct TestServerOptions {
   std::string api_keys;  // keys-file text; empty: no keys
   std::chrono::milliseconds lease{15000};
   std::size_t max_connections = 1024;
+  std::int64_t max_db_bytes = 0;  // 0: no limit (see SqliteOptions::max_size_bytes)
+  std::chrono::milliseconds store_failure_pause{5000};
 };
 
 inline TestServerOptions with_workers(int workers) {
@@ -60,6 +62,7 @@ class TestServer {
   explicit TestServer(TestServerOptions options = {}) {
     server::SqliteOptions store;
     store.file = dir_.path() / "brisance.sqlite3";
+    store.max_size_bytes = options.max_db_bytes;
     storage_ = server::open_sqlite_storage(store);
     server::ServiceOptions service_options;
     service_options.max_queue = options.max_queue;
@@ -67,6 +70,7 @@ class TestServer {
     server::WorkerOptions worker_options;
     worker_options.workers = options.workers;
     worker_options.lease = options.lease;
+    worker_options.store_failure_pause = options.store_failure_pause;
     pool_ = std::make_unique<server::WorkerPool>(*service_, metrics_, worker_options);
     if (!options.api_keys.empty()) keys_ = server::ApiKeys::parse(options.api_keys, "test");
     server::ApiOptions api_options;

@@ -46,6 +46,9 @@ constexpr std::string_view kHelp =
     "[BRISANCE_BODY_LIMIT_MB]\n"
     "  --max-connections N  open connections; more get 503 (default 1024) "
     "[BRISANCE_MAX_CONNECTIONS]\n"
+    "  --min-free-mb M      free space the data folder keeps: below it POST  "
+    "[BRISANCE_MIN_FREE_MB]\n"
+    "                       gets 507 and /readyz 503 (default 256, 0: off)\n"
     "  --job-timeout-s S    wall-clock limit per job run, 0 none (600)      "
     "[BRISANCE_JOB_TIMEOUT_S]\n"
     "  --max-attempts N     runs a job may crash before it fails (3)        "
@@ -114,6 +117,7 @@ int run_serve(const Args& args, std::ostream& out) {
                            {"io-threads"},
                            {"body-limit-mb"},
                            {"max-connections"},
+                           {"min-free-mb"},
                            {"job-timeout-s"},
                            {"max-attempts"},
                            {"retention-h"},
@@ -212,6 +216,10 @@ int run_serve(const Args& args, std::ostream& out) {
   WorkerPool pool(service, metrics, workers);
   ApiOptions api_options;
   api_options.body_limit_bytes = http.body_limit_bytes;
+  api_options.free_space = std::make_shared<FreeSpace>(
+      store.file.parent_path(),
+      static_cast<std::uint64_t>(
+          number_setting(flags, "min-free-mb", "BRISANCE_MIN_FREE_MB", 256, 0, 1e9) * 1024 * 1024));
   StaticFiles web(setting(flags, "web-dir", "BRISANCE_WEB_DIR").value_or(BRISANCE_WEB_DIR));
   if (web.available()) {
     api_options.static_file = [&web](std::string_view path) { return web.get(path); };

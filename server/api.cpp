@@ -17,7 +17,7 @@ enum class Access {
 };
 
 struct Route {
-  std::string_view method;  // "GET" also answers HEAD
+  std::string_view method;  // "GET" also answers HEAD; "*" answers every method
   std::string_view path;    // segments; "{id}" matches any one segment
   Access access;
   routes::Handler handler;
@@ -25,8 +25,9 @@ struct Route {
 
 // Every resource of the API (api/openapi.yaml), in the order their methods are listed in Allow.
 constexpr std::array kRoutes = {
-    Route{"GET", "/healthz", Access::open, routes::healthz},
-    Route{"GET", "/readyz", Access::open, routes::readyz},
+    // The probes answer every method as they answer GET (api/openapi.yaml).
+    Route{"*", "/healthz", Access::open, routes::healthz},
+    Route{"*", "/readyz", Access::open, routes::readyz},
     Route{"GET", "/metrics", Access::key, routes::metrics},
     Route{"GET", "/openapi.yaml", Access::key, routes::openapi},
     Route{"GET", "/v1/queue", Access::key, routes::queue},
@@ -65,7 +66,8 @@ bool path_matches(std::string_view path, const std::vector<std::string>& segment
 }
 
 bool method_matches(std::string_view route_method, std::string_view method) {
-  return route_method == method || (route_method == "GET" && method == "HEAD");
+  return route_method == "*" || route_method == method ||
+         (route_method == "GET" && method == "HEAD");
 }
 
 // Paths under the API (as opposed to the dashboard's files) need a key when keys are configured.

@@ -5,6 +5,7 @@
 
 #include <chrono>
 #include <functional>
+#include <memory>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -12,6 +13,7 @@
 #include <vector>
 
 #include "server/api_keys.hpp"
+#include "server/free_space.hpp"
 #include "server/http_types.hpp"
 #include "server/job_service.hpp"
 #include "server/metrics.hpp"
@@ -19,6 +21,9 @@
 namespace brisance::server {
 
 struct ApiOptions {
+  // The data folder's free space against its floor: below it, submissions get 507 and /readyz
+  // says not ready. nullptr: not checked.
+  std::shared_ptr<FreeSpace> free_space;
   std::size_t body_limit_bytes = 16 * 1024 * 1024;  // for the 413 problem's detail
   std::chrono::seconds max_wait{30};
   // Static files of the dashboard by path ("index.html"); nullptr: no dashboard.

@@ -62,6 +62,18 @@ HttpResponse submit_job(const Context& c) {
                    "send the job as application/json")
         .response();
   }
+  if (c.options.free_space && c.options.free_space->low()) {
+    // Refused before the disk is full, so the jobs already accepted can still store results and
+    // deletes can still make room.
+    return problem(507, "insufficient-storage", "Insufficient storage",
+                   "the data folder has " +
+                       std::to_string(c.options.free_space->available_bytes() >> 20) +
+                       " MiB free, below the floor of " +
+                       std::to_string(c.options.free_space->floor_bytes() >> 20) +
+                       " MiB (--min-free-mb); delete finished jobs or free space, then retry")
+        .header("Retry-After", "60")
+        .response();
+  }
   const std::string_view key = c.request.header("idempotency-key");
   if (key.size() > 255) {
     return problem(400, "invalid-parameter", "Invalid Idempotency-Key",

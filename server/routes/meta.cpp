@@ -21,11 +21,13 @@ HttpResponse healthz(const Context&) {
 HttpResponse readyz(const Context& c) {
   const bool db = c.service.database_ok();
   const WorkerGauges workers = c.worker_gauges();
-  const bool ready = db && workers.total > 0;
+  const bool disk_low = c.options.free_space && c.options.free_space->low();
+  const bool ready = db && workers.total > 0 && !disk_low;
   HttpResponse r;
   r.status = ready ? 200 : 503;
   r.body = json{{"status", ready ? "ready" : "not ready"},
                 {"database", db ? "ok" : "unreachable"},
+                {"disk", disk_low ? "low" : "ok"},
                 {"workers", workers.total}}
                .dump();
   return r;

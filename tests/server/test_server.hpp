@@ -49,6 +49,7 @@ struct TestServerOptions {
   std::size_t max_connections = 1024;
   std::int64_t max_db_bytes = 0;  // 0: no limit (see SqliteOptions::max_size_bytes)
   std::chrono::milliseconds store_failure_pause{5000};
+  std::uint64_t min_free_bytes = 0;  // the data folder's free-space floor; 0: not checked
 };
 
 inline TestServerOptions with_workers(int workers) {
@@ -75,6 +76,9 @@ class TestServer {
     if (!options.api_keys.empty()) keys_ = server::ApiKeys::parse(options.api_keys, "test");
     server::ApiOptions api_options;
     api_options.body_limit_bytes = options.body_limit_bytes;
+    if (options.min_free_bytes > 0)
+      api_options.free_space =
+          std::make_shared<server::FreeSpace>(dir_.path(), options.min_free_bytes);
     api_ = std::make_unique<server::Api>(
         *service_, metrics_, keys_,
         [this] {

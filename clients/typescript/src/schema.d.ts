@@ -33,8 +33,9 @@ export interface paths {
         };
         /**
          * Readiness probe
-         * @description `200` when the job store answers and at least one worker runs; `503` (with the same JSON
-         *     shape, not a problem) otherwise. Needs no key.
+         * @description `200` when the job store answers, at least one worker runs and the data folder is above
+         *     its free-space floor; `503` (with the same JSON shape, not a problem) otherwise. Needs no
+         *     key.
          */
         get: operations["getReadiness"];
         put?: never;
@@ -395,7 +396,7 @@ export type webhooks = Record<string, never>;
 export interface components {
     schemas: {
         /** @description The stable URN naming a kind of problem. */
-        ProblemType: "urn:brisance:problem:bad-request" | "urn:brisance:problem:malformed-json" | "urn:brisance:problem:invalid-parameter" | "urn:brisance:problem:unauthorized" | "urn:brisance:problem:forbidden" | "urn:brisance:problem:not-found" | "urn:brisance:problem:method-not-allowed" | "urn:brisance:problem:not-acceptable" | "urn:brisance:problem:job-finished" | "urn:brisance:problem:result-not-ready" | "urn:brisance:problem:payload-too-large" | "urn:brisance:problem:unsupported-media-type" | "urn:brisance:problem:invalid-scene" | "urn:brisance:problem:idempotency-key-reused" | "urn:brisance:problem:overloaded" | "urn:brisance:problem:queue-full" | "urn:brisance:problem:internal-error" | "urn:brisance:problem:storage-unavailable";
+        ProblemType: "urn:brisance:problem:bad-request" | "urn:brisance:problem:malformed-json" | "urn:brisance:problem:invalid-parameter" | "urn:brisance:problem:unauthorized" | "urn:brisance:problem:forbidden" | "urn:brisance:problem:not-found" | "urn:brisance:problem:method-not-allowed" | "urn:brisance:problem:not-acceptable" | "urn:brisance:problem:job-finished" | "urn:brisance:problem:result-not-ready" | "urn:brisance:problem:payload-too-large" | "urn:brisance:problem:unsupported-media-type" | "urn:brisance:problem:invalid-scene" | "urn:brisance:problem:idempotency-key-reused" | "urn:brisance:problem:insufficient-storage" | "urn:brisance:problem:overloaded" | "urn:brisance:problem:queue-full" | "urn:brisance:problem:internal-error" | "urn:brisance:problem:storage-unavailable";
         /** @description An RFC 9457 problem; `type` says which (see `ProblemType`). */
         Problem: {
             type: components["schemas"]["ProblemType"];
@@ -568,12 +569,18 @@ export interface components {
         };
         Readiness: {
             /**
-             * @description `ready` when the store answers and at least one worker runs.
+             * @description `ready` when the store answers, at least one worker runs and the data folder is above
+             *     its free-space floor.
              * @enum {string}
              */
             status: "ready" | "not ready";
             /** @enum {string} */
             database: "ok" | "unreachable";
+            /**
+             * @description `low`: the data folder is below its free-space floor (`--min-free-mb`).
+             * @enum {string}
+             */
+            disk: "ok" | "low";
             /** @description Simulation workers in this process. */
             workers: number;
         };
@@ -1863,6 +1870,7 @@ export interface operations {
                      * @example {
                      *       "status": "ready",
                      *       "database": "ok",
+                     *       "disk": "ok",
                      *       "workers": 4
                      *     }
                      */
@@ -1871,7 +1879,7 @@ export interface operations {
             };
             400: components["responses"]["MalformedRequest"];
             500: components["responses"]["InternalError"];
-            /** @description Not ready - the job store does not answer or no worker runs. */
+            /** @description Not ready - the job store does not answer, no worker runs, or the disk is low. */
             503: {
                 headers: {
                     "X-Request-Id": components["headers"]["X-Request-Id"];
@@ -1881,7 +1889,8 @@ export interface operations {
                     /**
                      * @example {
                      *       "status": "not ready",
-                     *       "database": "unreachable",
+                     *       "database": "ok",
+                     *       "disk": "low",
                      *       "workers": 4
                      *     }
                      */

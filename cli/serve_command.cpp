@@ -63,7 +63,7 @@ constexpr std::string_view kHelp =
     "[BRISANCE_LOG_LEVEL]\n";
 
 constexpr std::string_view kKeyHelp =
-    "usage: brisance api-key [--name NAME] [--scope read|write]\n"
+    "usage: brisance api-key [--name NAME] [--scope read|write|admin]\n"
     "\n"
     "Prints a new random API key and the line to add to the --api-keys file (which stores only\n"
     "its SHA-256 hash). Give clients the key; keep the file on the server.\n";
@@ -272,13 +272,16 @@ int run_api_key(const Args& args, std::ostream& out) {
     flags.fail("--name must be one word without spaces or '#'");
   }
   const std::string_view scope = flags.value("scope").value_or("write");
-  if (scope != "read" && scope != "write") {
-    flags.fail("--scope must be 'read' or 'write', got '" + std::string(scope) + "'");
+  if (scope != "read" && scope != "write" && scope != "admin") {
+    flags.fail("--scope must be 'read', 'write' or 'admin', got '" + std::string(scope) + "'");
   }
   const std::string key = server::generate_api_key();
   out << "key:  " << key << "\n"
       << "line: "
-      << server::api_key_line(name, scope == "write" ? server::Scope::write : server::Scope::read,
+      << server::api_key_line(name,
+                              scope == "admin"   ? server::Scope::admin
+                              : scope == "write" ? server::Scope::write
+                                                 : server::Scope::read,
                               key)
       << "\n";
   return kExitOk;

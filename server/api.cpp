@@ -124,7 +124,7 @@ HttpResponse Api::route(const HttpRequest& request, const std::optional<LongPoll
                            "the request target is not a valid path and query (RFC 9112 §3.2.1)")
         .response();
   }
-  routes::Context context{request, *target, {}, poll, service_, metrics_, workers_, options_};
+  routes::Context context{request, *target, {}, poll, service_, metrics_, workers_, options_, {}};
 
   const Route* matched = nullptr;
   std::string allow;
@@ -142,10 +142,10 @@ HttpResponse Api::route(const HttpRequest& request, const std::optional<LongPoll
 
   const bool get = request.method == "GET" || request.method == "HEAD";
   const bool open = matched ? matched->access == Access::open : !api_path(*target);
+  std::optional<ApiKey> key;
   if (!open && keys_.enabled()) {
     const std::string_view auth = request.header("authorization");
     constexpr std::string_view kBearer = "Bearer ";
-    std::optional<ApiKey> key;
     if (auth.size() > kBearer.size() && auth.substr(0, kBearer.size()) == kBearer) {
       key = keys_.authenticate(auth.substr(kBearer.size()));
     }
@@ -155,13 +155,14 @@ HttpResponse Api::route(const HttpRequest& request, const std::optional<LongPoll
           .header("WWW-Authenticate", "Bearer realm=\"brisance\"")
           .response();
     }
-    if (!get && key->scope != Scope::write) {
+    if (!get && key->scope == Scope::read) {
       return server::problem(403, "forbidden", "Write scope required",
                              "the API key '" + key->name + "' may only read")
           .response();
     }
   }
 
+  context.key = std::move(key);
   if (matched) return matched->handler(context);
   if (!allow.empty()) return method_not_allowed(allow);
 

@@ -31,7 +31,7 @@ ApiKeys ApiKeys::parse(std::string_view text, std::string_view origin) {
     fields >> name >> scope >> hash;
     const auto where = std::string(origin) + ":" + std::to_string(number) + ": ";
     if (hash.empty() || (fields >> extra)) {
-      throw std::runtime_error(where + "expected 'NAME read|write sha256:HEX'");
+      throw std::runtime_error(where + "expected 'NAME read|write|admin sha256:HEX'");
     }
     ApiKey key;
     key.name = name;
@@ -39,8 +39,11 @@ ApiKeys ApiKeys::parse(std::string_view text, std::string_view origin) {
       key.scope = Scope::read;
     } else if (scope == "write") {
       key.scope = Scope::write;
+    } else if (scope == "admin") {
+      key.scope = Scope::admin;
     } else {
-      throw std::runtime_error(where + "scope must be 'read' or 'write', got '" + scope + "'");
+      throw std::runtime_error(where + "scope must be 'read', 'write' or 'admin', got '" + scope +
+                               "'");
     }
     constexpr std::string_view kPrefix = "sha256:";
     if (hash.rfind(kPrefix, 0) != 0 || hash.size() != kPrefix.size() + 64 ||
@@ -78,8 +81,10 @@ std::string generate_api_key() {
 }
 
 std::string api_key_line(std::string_view name, Scope scope, std::string_view key) {
-  return std::string(name) + (scope == Scope::write ? " write " : " read ") +
-         "sha256:" + sha256_hex(key);
+  const char* word = scope == Scope::admin   ? " admin "
+                     : scope == Scope::write ? " write "
+                                             : " read ";
+  return std::string(name) + word + "sha256:" + sha256_hex(key);
 }
 
 }  // namespace brisance::server

@@ -13,7 +13,9 @@
 
 namespace brisance::server {
 
-enum class Scope { read, write };
+// read: GET its own jobs; write: also submit, cancel and delete them; admin: write, on every key's
+// jobs.
+enum class Scope { read, write, admin };
 
 struct ApiKey {
   std::string name;

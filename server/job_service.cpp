@@ -132,6 +132,7 @@ SubmitOutcome JobService::submit(const SubmitRequest& request) {
   job.scene_json = scene_json->dump();
   job.priority = priority;
   job.idempotency_key = std::string(request.idempotency_key);
+  job.owner = std::string(request.owner);
   if (!job.idempotency_key.empty()) job.request_hash = sha256_hex(request.body);
   job.now_ms = now_ms();
 

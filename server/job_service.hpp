@@ -47,6 +47,7 @@ class ChangeNotifier {
 struct SubmitRequest {
   std::string_view body;             // {"scene": {...}, "priority": N}
   std::string_view idempotency_key;  // empty: none
+  std::string_view owner;            // the API key's name; empty when keys are off
 };
 
 struct SubmitOutcome {
@@ -63,8 +64,9 @@ class JobService {
 
   SubmitOutcome submit(const SubmitRequest& request);
   std::optional<JobRecord> job(std::string_view id) { return storage_.get_job(id); }
-  JobPage list(std::optional<JobStatus> status, std::int64_t before_seq, int limit) {
-    return storage_.list_jobs(status, before_seq, limit);
+  JobPage list(std::optional<JobStatus> status, std::int64_t before_seq, int limit,
+               std::optional<std::string_view> owner) {
+    return storage_.list_jobs(status, before_seq, limit, owner);
   }
   CancelOutcome cancel(const std::string& id);
   bool remove(const std::string& id);

@@ -233,12 +233,13 @@ JobRecord read_job(const Statement& s) {
   j.error_type = s.text(12);
   j.error = s.text(13);
   j.stats_json = s.text(14);
+  j.owner = s.text(15);
   return j;
 }
 
 #define JOB_COLUMNS                                                                        \
   "id, seq, status, priority, progress, version, attempts, cancel_requested, created_ms, " \
-  "updated_ms, started_ms, finished_ms, error_type, error, stats"
+  "updated_ms, started_ms, finished_ms, error_type, error, stats, owner"
 
 class SqliteStorage final : public Storage {
  public:
@@ -288,7 +289,8 @@ class SqliteStorage final : public Storage {
     return read_by_id(*c, id);
   }
 
-  JobPage list_jobs(std::optional<JobStatus> status, std::int64_t before_seq, int limit) override {
+  JobPage list_jobs(std::optional<JobStatus> status, std::int64_t before_seq, int limit,
+                    std::optional<std::string_view> owner) override {
     auto c = acquire();
     const std::int64_t before = before_seq > 0 ? before_seq : INT64_MAX;
     JobPage page;
@@ -296,7 +298,18 @@ class SqliteStorage final : public Storage {
       while (s.step())
         page.jobs.push_back(read_job(s));
     };
-    if (status) {
+    if (status && owner) {
+      auto s = c->prepare(
+          "SELECT " JOB_COLUMNS
+          " FROM jobs WHERE owner = ? AND status = ? AND seq < ? ORDER BY seq DESC LIMIT ?");
+      s.bind(1, *owner).bind(2, to_string(*status)).bind(3, before).bind(4, limit + 1);
+      read_rows(s);
+    } else if (owner) {
+      auto s = c->prepare("SELECT " JOB_COLUMNS
+                          " FROM jobs WHERE owner = ? AND seq < ? ORDER BY seq DESC LIMIT ?");
+      s.bind(1, *owner).bind(2, before).bind(3, limit + 1);
+      read_rows(s);
+    } else if (status) {
       auto s = c->prepare("SELECT " JOB_COLUMNS
                           " FROM jobs WHERE status = ? AND seq < ? ORDER BY seq DESC LIMIT ?");
       s.bind(1, to_string(*status)).bind(2, before).bind(3, limit + 1);
@@ -375,7 +388,7 @@ class SqliteStorage final : public Storage {
       s.bind(1, id);
       s.step();
       claimed.job = read_job(s);
-      claimed.scene_json = s.text(15);
+      claimed.scene_json = s.text(16);
     }
     tx.commit();
     return claimed;
@@ -716,27 +729,32 @@ class SqliteStorage final : public Storage {
   }
 
   CreateResult create_one(Connection& c, const NewJob& job) {
+    // Idempotency keys are the owner's own: two clients may use the same key for different jobs.
+    // The column is unique, so the owner's name (keys cannot contain a line feed) prefixes it.
+    const std::string scoped_key =
+        job.owner.empty() ? job.idempotency_key : job.owner + "\n" + job.idempotency_key;
     if (!job.idempotency_key.empty()) {
       auto s =
           c.prepare("SELECT " JOB_COLUMNS ", request_hash FROM jobs WHERE idempotency_key = ?");
-      s.bind(1, job.idempotency_key);
+      s.bind(1, scoped_key);
       if (s.step()) {
         CreateResult existing{CreateOutcome::existing, read_job(s)};
-        if (s.text(15) != job.request_hash) existing.outcome = CreateOutcome::key_conflict;
+        if (s.text(16) != job.request_hash) existing.outcome = CreateOutcome::key_conflict;
         return existing;
       }
     }
     if (!job.create_if_missing) return {CreateOutcome::not_created, {}};
     auto s = c.prepare(
         "INSERT INTO jobs (id, status, priority, scene, created_ms, updated_ms, "
-        "idempotency_key, request_hash) VALUES (?, 'queued', ?, ?, ?, ?, ?, ?)");
+        "idempotency_key, request_hash, owner) VALUES (?, 'queued', ?, ?, ?, ?, ?, ?, ?)");
     s.bind(1, job.id).bind(2, job.priority).bind(3, job.scene_json);
     s.bind(4, job.now_ms).bind(5, job.now_ms);
     if (job.idempotency_key.empty()) {
       s.bind_null(6).bind_null(7);
     } else {
-      s.bind(6, job.idempotency_key).bind(7, job.request_hash);
+      s.bind(6, scoped_key).bind(7, job.request_hash);
     }
+    s.bind(8, job.owner);
     s.run();
     // The row as inserted, without reading it back.
     JobRecord created;
@@ -745,6 +763,7 @@ class SqliteStorage final : public Storage {
     created.priority = job.priority;
     created.created_ms = job.now_ms;
     created.updated_ms = job.now_ms;
+    created.owner = job.owner;
     return {CreateOutcome::created, std::move(created)};
   }
 

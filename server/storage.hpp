@@ -48,13 +48,15 @@ struct JobRecord {
   std::string error_type;  // stable code, empty unless failed
   std::string error;       // message for the client, empty unless failed
   std::string stats_json;  // the result's `stats` object once succeeded, else empty
+  std::string owner;       // the API key that submitted it; empty when keys are off
 };
 
 struct NewJob {
   std::string id;
   std::string scene_json;  // validated scene, as compact JSON
   int priority = 0;
-  std::string idempotency_key;  // empty: none
+  std::string owner;            // the submitting API key's name; empty when keys are off
+  std::string idempotency_key;  // empty: none; scoped to the owner
   std::string request_hash;     // hash of the request body, for the idempotency check
   std::int64_t now_ms = 0;
   bool create_if_missing = true;  // false: only look the idempotency key up (queue full)
@@ -120,9 +122,9 @@ class Storage {
   // created from a different request body).
   virtual CreateResult create_job(const NewJob& job) = 0;
   virtual std::optional<JobRecord> get_job(std::string_view id) = 0;
-  // Newest first; `before_seq` 0 starts at the newest.
-  virtual JobPage list_jobs(std::optional<JobStatus> status, std::int64_t before_seq,
-                            int limit) = 0;
+  // Newest first; `before_seq` 0 starts at the newest; only `owner`'s jobs when given.
+  virtual JobPage list_jobs(std::optional<JobStatus> status, std::int64_t before_seq, int limit,
+                            std::optional<std::string_view> owner) = 0;
   virtual std::int64_t count_queued() = 0;
   virtual QueueCounts queue_counts(std::int64_t now_ms) = 0;
 

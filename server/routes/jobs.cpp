@@ -80,7 +80,8 @@ HttpResponse submit_job(const Context& c) {
                    "the Idempotency-Key header must be at most 255 characters")
         .response();
   }
-  SubmitOutcome outcome = c.service.submit({c.request.body, key});
+  SubmitOutcome outcome =
+      c.service.submit({c.request.body, key, c.key ? std::string_view(c.key->name) : ""});
   using Kind = SubmitOutcome::Kind;
   switch (outcome.kind) {
     case Kind::accepted:
@@ -131,7 +132,7 @@ HttpResponse list_jobs(const Context& c) {
   }
   const int limit = static_cast<int>(integer_param(c.target, "limit", 50, 1, 500));
   const std::int64_t cursor = integer_param(c.target, "cursor", 0, 0, INT64_MAX);
-  const JobPage page = c.service.list(status, cursor, limit);
+  const JobPage page = c.service.list(status, cursor, limit, c.owner_filter());
   std::string body = "{\"jobs\":[";
   for (std::size_t i = 0; i < page.jobs.size(); ++i) {
     if (i > 0) body += ',';
@@ -151,7 +152,7 @@ HttpResponse list_jobs(const Context& c) {
 }
 
 HttpResponse get_job(const Context& c) {
-  auto job = c.service.job(c.id);
+  auto job = c.visible_job();
   if (!job) return job_not_found(c.id);
   const std::string etag = job_etag(*job);
   const std::string_view if_none_match = c.request.header("if-none-match");
@@ -178,7 +179,7 @@ HttpResponse get_job(const Context& c) {
 }
 
 HttpResponse delete_job(const Context& c) {
-  if (!c.service.remove(c.id)) return job_not_found(c.id);
+  if (!c.visible_job() || !c.service.remove(c.id)) return job_not_found(c.id);
   HttpResponse r;
   r.status = 204;
   r.content_type.clear();
@@ -186,6 +187,7 @@ HttpResponse delete_job(const Context& c) {
 }
 
 HttpResponse cancel_job(const Context& c) {
+  if (!c.visible_job()) return job_not_found(c.id);
   const CancelOutcome outcome = c.service.cancel(c.id);
   if (outcome == CancelOutcome::not_found) return job_not_found(c.id);
   auto job = c.service.job(c.id);
@@ -204,6 +206,7 @@ HttpResponse cancel_job(const Context& c) {
 }
 
 HttpResponse job_scene(const Context& c) {
+  if (!c.visible_job()) return job_not_found(c.id);
   auto scene = c.service.scene(c.id);
   if (!scene) return job_not_found(c.id);
   HttpResponse r;

@@ -17,7 +17,7 @@ using nlohmann::json;
 
 // The job if it has a result; otherwise the answer to give (404, or 409 while it has none).
 std::variant<JobRecord, HttpResponse> succeeded_job(const Context& c) {
-  auto job = c.service.job(c.id);
+  auto job = c.visible_job();
   if (!job) return job_not_found(c.id);
   if (job->status == JobStatus::succeeded) return *job;
   Problem p =

@@ -27,8 +27,21 @@ struct Context {
   Metrics& metrics;
   const std::function<WorkerGauges()>& workers;
   const ApiOptions& options;
+  // The caller's key; nullopt when the server runs without keys.
+  std::optional<ApiKey> key;
 
   WorkerGauges worker_gauges() const { return workers ? workers() : WorkerGauges{}; }
+  // Whose jobs the caller sees: its own, or everyone's (no keys, or an admin key).
+  std::optional<std::string_view> owner_filter() const {
+    if (!key || key->scope == Scope::admin) return std::nullopt;
+    return std::string_view(key->name);
+  }
+  // The job {id} if it exists and the caller may see it; a job of another key is not found.
+  std::optional<JobRecord> visible_job() const {
+    auto job = service.job(id);
+    if (job && owner_filter() && job->owner != *owner_filter()) return std::nullopt;
+    return job;
+  }
 };
 
 using Handler = HttpResponse (*)(const Context&);

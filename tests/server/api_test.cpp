@@ -362,6 +362,52 @@ TEST(Api, ApiKeysGuardEverythingButTheProbes) {
             202);
 }
 
+// Jobs belong to the key that submitted them: another key neither lists, reads, cancels nor
+// deletes them, and idempotency keys are each key's own; an admin key sees every job.
+TEST(Api, EachKeySeesOnlyItsOwnJobsAndAdminsSeeAll) {
+  const std::string alice_key = "bk_alice_key_for_tests";
+  const std::string bob_key = "bk_bob_key_for_tests";
+  const std::string root_key = "bk_root_key_for_tests";
+  TestServerOptions options = with_workers(0);
+  options.api_keys = server::api_key_line("alice", server::Scope::write, alice_key) + "\n" +
+                     server::api_key_line("bob", server::Scope::write, bob_key) + "\n" +
+                     server::api_key_line("root", server::Scope::admin, root_key);
+  TestServer server(options);
+  const Headers alice = {{"Authorization", "Bearer " + alice_key}, {"Idempotency-Key", "k1"}};
+  const Headers bob = {{"Authorization", "Bearer " + bob_key}, {"Idempotency-Key", "k1"}};
+  const Headers root = {{"Authorization", "Bearer " + root_key}};
+  const std::string id = submit(server, quick_scene(), alice);
+  json other = quick_scene();
+  other["simulation"]["duration"] = 0.5;
+  // The same idempotency key with another body is bob's own new job, not a conflict with alice's.
+  const std::string bobs = submit(server, other, bob);
+  EXPECT_NE(bobs, id);
+
+  const auto ids = [&](const Headers& who) {
+    std::vector<std::string> out;
+    const json page = json::parse(server.request("GET", "/v1/jobs", {}, who).body);
+    for (const json& job : page.at("jobs"))
+      out.push_back(job.at("id"));
+    return out;
+  };
+  EXPECT_EQ(ids(alice), std::vector<std::string>{id});
+  EXPECT_EQ(ids(bob), std::vector<std::string>{bobs});
+  EXPECT_EQ(ids(root).size(), 2u);
+
+  for (const auto& [method, path] :
+       std::vector<std::pair<std::string, std::string>>{{"GET", "/v1/jobs/" + id},
+                                                        {"GET", "/v1/jobs/" + id + "/scene"},
+                                                        {"GET", "/v1/jobs/" + id + "/result"},
+                                                        {"POST", "/v1/jobs/" + id + "/cancel"},
+                                                        {"DELETE", "/v1/jobs/" + id}}) {
+    EXPECT_EQ(server.request(method, path, {}, bob).status, 404) << method << " " << path;
+  }
+  EXPECT_EQ(server.request("GET", "/v1/jobs/" + id, {}, alice).status, 200);
+  EXPECT_EQ(server.request("GET", "/v1/jobs/" + id, {}, root).status, 200);
+  EXPECT_EQ(server.request("POST", "/v1/jobs/" + id + "/cancel", {}, root).status, 200);
+  EXPECT_EQ(server.request("DELETE", "/v1/jobs/" + bobs, {}, bob).status, 204);
+}
+
 TEST(Api, KeepAliveServesSeveralRequestsOnOneConnectionAndEchoesRequestIds) {
   TestServer server(with_workers(0));
   Connection connection(server.port());

@@ -678,7 +678,10 @@ class ApiKeyTest(ServerTestCase):
         job = writer.run(THREE_BLOCKS, timeout=30)
         self.assertEqual(job.status, "succeeded")
         self.assertTrue(writer.glb(job).startswith(b"glTF"))
-        self.assertEqual(self.keyed(self.keys["read"]).job(job).status, "succeeded")
+        # The job is the write key's own: another key does not see it (docs/service.md).
+        with self.assertRaises(ProblemError) as caught:
+            self.keyed(self.keys["read"]).job(job)
+        self.assertEqual((caught.exception.status, caught.exception.kind), (404, "not-found"))
 
     def test_cli_keys(self) -> None:
         scene = str(REPO / "scenes" / "three_blocks.json")

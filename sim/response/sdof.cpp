@@ -215,9 +215,15 @@ double first_root(F f, double h, double f0, double fh) {
   return b;
 }
 
-// The longest step the load's shape allows: curved pieces are linearised over a step.
-double load_step_limit_s(const PressureLoad& load) {
-  double limit = std::numeric_limits<double>::infinity();
+// Where a curved piece is linearised over a step, the longest step its shape allows.
+struct StepWindow {
+  double begin_s = 0.0;
+  double end_s = 0.0;
+  double max_step_s = 0.0;
+};
+
+std::vector<StepWindow> load_step_windows(const PressureLoad& load) {
+  std::vector<StepWindow> windows;
   for (const LoadComponent& c : load.components) {
     for (std::size_t i = 0; i < c.history.size(); ++i) {
       const blast::ExpPolyPiece& p = c.history.piece(i);
@@ -225,10 +231,10 @@ double load_step_limit_s(const PressureLoad& load) {
       if (straight) continue;
       double scale = p.end_s - p.begin_s;
       if (std::abs(p.rate) > 1.0) scale = std::min(scale, p.scale_s / std::abs(p.rate));
-      limit = std::min(limit, scale / 16.0);
+      windows.push_back({c.arrival_s + p.begin_s, c.arrival_s + p.end_s, scale / 16.0});
     }
   }
-  return limit;
+  return windows;
 }
 
 // Times where the load's slope may jump: step boundaries, so straight pieces are exact.
@@ -256,8 +262,11 @@ SdofResult solve_sdof(const SdofSystem& sys, const PressureLoad& load, const Sol
   const double end_s = opt.end_time_s > 0.0  ? opt.end_time_s
                        : opt.stop_after_peak ? load_end_s + 4.0 * period_s
                                              : load_end_s + 3.0 * period_s;
-  double max_step_s = std::min(period_s / 32.0, load_step_limit_s(load));
-  if (opt.max_step_s > 0.0) max_step_s = std::min(max_step_s, opt.max_step_s);
+  // T / 32 keeps every velocity reversal inside a step findable (at most one per half period);
+  // curved pieces of the load get a finer step only while they act.
+  double free_step_s = period_s / 32.0;
+  if (opt.max_step_s > 0.0) free_step_s = std::min(free_step_s, opt.max_step_s);
+  const std::vector<StepWindow> windows = load_step_windows(load);
   const std::vector<double> breaks = load_breakpoints(load);
   const double force_scale = sys.force_per_pa_m2 * opt.load_scale;
 
@@ -289,6 +298,10 @@ SdofResult solve_sdof(const SdofSystem& sys, const PressureLoad& load, const Sol
     }
     while (next_break < breaks.size() && breaks[next_break] <= t * (1.0 + 1e-15))
       ++next_break;
+    double max_step_s = free_step_s;
+    for (const StepWindow& w : windows) {
+      if (t >= w.begin_s && t < w.end_s) max_step_s = std::min(max_step_s, w.max_step_s);
+    }
     double t1 = std::min(t + max_step_s, end_s);
     if (next_break < breaks.size()) t1 = std::min(t1, breaks[next_break]);
     const double h = t1 - t;

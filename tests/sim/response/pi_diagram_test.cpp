@@ -3,6 +3,7 @@
 #include "sim/response/pi_diagram.hpp"
 
 #include <cmath>
+#include <cstdio>
 
 #include <gtest/gtest.h>
 

@@ -320,17 +320,12 @@ SdofResult solve_sdof(const SdofSystem& sys, const PressureLoad& load, const Sol
       break;
     }
 
-    // Events: the earliest of the branch's boundaries and the velocity's sign changes.
+    // Events: a velocity reversal first (at most one per step, as h <= T / 32), then the branch's
+    // boundaries up to that reversal — y is monotone there, so a boundary crossed and re-crossed
+    // around a peak inside one step is still found.
     enum class Event { none, leave_up, leave_down, next_segment, stop_up, stop_down };
     Event event = Event::none;
     double s_event = h;
-    auto consider = [&](Event e, double f0v, double fhv, auto f) {
-      const double s = first_root(f, h, f0v, fhv);
-      if (s < s_event || event == Event::none) {
-        s_event = s;
-        event = e;
-      }
-    };
     auto y_at = [&](double s) {
       double ys = 0.0, vs = 0.0;
       motion.at(s, ys, vs);
@@ -341,26 +336,28 @@ SdofResult solve_sdof(const SdofSystem& sys, const PressureLoad& load, const Sol
       motion.at(s, ys, vs);
       return vs;
     };
-    if (v > 0.0 && v1 <= 0.0) consider(Event::stop_up, v, v1, v_at);
-    if (v < 0.0 && v1 >= 0.0) consider(Event::stop_down, v, v1, v_at);
+    if ((v > 0.0 && v1 <= 0.0) || (v < 0.0 && v1 >= 0.0)) {
+      s_event = first_root(v_at, h, v, v1);
+      event = v > 0.0 ? Event::stop_up : Event::stop_down;
+    }
+    const double y_end = event == Event::none ? y1 : y_at(s_event);
+    auto boundary = [&](Event e, double edge_m) {
+      const double s = first_root([&](double q) { return y_at(q) - edge_m; }, s_event, y - edge_m,
+                                  y_end - edge_m);
+      s_event = s;
+      event = e;
+    };
     if (ph.branch == Branch::elastic) {
       const double hi = res.loading.elastic_meet_m(k, ph.set_m);
       const double lo = -res.rebound.elastic_meet_m(k, -ph.set_m);
-      if (y1 > hi) {
-        consider(Event::leave_up, y - hi, y1 - hi, [&](double s) { return y_at(s) - hi; });
-      }
-      if (y1 < lo) {
-        consider(Event::leave_down, y - lo, y1 - lo, [&](double s) { return y_at(s) - lo; });
-      }
+      if (y_end > hi) boundary(Event::leave_up, hi);
+      if (y_end < lo) boundary(Event::leave_down, lo);
     } else {
       const Envelope& env = ph.branch == Branch::loading ? res.loading : res.rebound;
       if (ph.segment + 1 < env.count) {
         const double sign = ph.branch == Branch::loading ? 1.0 : -1.0;
         const double edge = sign * env.segments[ph.segment + 1].start_m;
-        if (sign * (y1 - edge) > 0.0) {
-          consider(Event::next_segment, y - edge, y1 - edge,
-                   [&](double s) { return y_at(s) - edge; });
-        }
+        if (sign * (y_end - edge) > 0.0) boundary(Event::next_segment, edge);
       }
     }
     if (event != Event::none) {

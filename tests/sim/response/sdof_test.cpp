@@ -148,6 +148,23 @@ TEST(Sdof, ElasticPlasticImpulsiveMatchesEnergySolution) {
   EXPECT_NEAR(r.peak_displacement_m / (0.5 * m * 100.0 / ry), 1.0, 1e-6);
 }
 
+TEST(Sdof, YieldJustBeforeThePeakInsideOneStepIsFound) {
+  // Start at y0 = -y_el / 2 so the peak (y_m = 1.0001 y_el, near t = T / 3) falls inside a step of
+  // T / 32, with the yield crossing just before it and y back below y_el at the step's end. The
+  // permanent set y_m - y_el must still come out (an end-of-step check alone misses it, as the
+  // first version of sdof.cpp did). Energy: 1/2 m v0^2 + 1/2 k y0^2 = 1/2 k y_el^2 + R_y d.
+  const double k = 1.0e6, ry = 2.0e4, m = 100.0, yel = ry / k;
+  const SdofSystem sys = equivalent_system(plastic_element(ResistanceType::elastic_plastic, k, ry));
+  const double ym = 1.0001 * yel;
+  const double y0 = -0.5 * yel;
+  SolveOptions opt;
+  opt.initial_displacement_m = y0;
+  opt.initial_velocity_m_s = std::sqrt((k * yel * yel + 2.0 * ry * (ym - yel) - k * y0 * y0) / m);
+  const SdofResult r = solve_sdof(sys, PressureLoad{}, opt);
+  EXPECT_NEAR(r.peak_displacement_m / ym, 1.0, 1e-12);
+  EXPECT_NEAR(r.permanent_set_m / (ym - yel), 1.0, 1e-6);
+}
+
 TEST(Sdof, ElasticPlasticRectangularLoadMatchesEnergySolution) {
   // A long rectangular load F < R_m: F y_m = R_m (y_m - y_el / 2), y_m = R_m y_el / (2 (R_m - F))
   // (Biggs 1964 §2.6, the same energy balance with the work of a constant force).

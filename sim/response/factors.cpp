@@ -4,6 +4,9 @@
 // (simply supported beams and one-way slabs), table 5.2 (fixed-end), table 5.3 (two-way slabs
 // simply supported on four sides); the same factors are reprinted in UFC 3-340-02 (2008) tables
 // 3-12 and 3-13. Uniformly distributed load only. Values are K_L and K_M; K_LM = K_M / K_L.
+// The one-way rows were cross-checked against the table Ingeania publishes from the same source
+// (ingeania.com/Reference/SDOF_Transformation_Factors); the two-way rows were not cross-checked
+// against a second copy: verify them against the printed table before design use.
 // Not in the table (missing): concentrated and third-point loads, cantilevers, the fixed-edge
 // two-way slabs of Biggs table 5.4 / UFC table 3-13's fixed cases.
 #include "sim/response/factors.hpp"

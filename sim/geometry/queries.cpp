@@ -7,6 +7,8 @@
 #include <limits>
 #include <numbers>
 
+#include <Eigen/Geometry>
+
 namespace brisance::geometry {
 
 double distance_to_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {

@@ -97,6 +97,47 @@ std::optional<geometry::TriangleMesh> parse_mesh(const Fields& shape, const Limi
   return mesh;
 }
 
+// The object's required `shape`, into object.shape, box_size_m and mesh; true if it is valid.
+bool parse_shape(const Fields& fields, const Limits& limits, ObjectSpec& object) {
+  Errors& errors = fields.errors();
+  const json* shape =
+      fields.require("shape",
+                     "{\"type\": \"box\", \"size\": [x, y, z]} or {\"type\": \"mesh\", "
+                     "\"vertices\": [...], \"triangles\": [...]}");
+  if (!shape) return false;
+  const std::string at = fields.at("shape");
+  if (!expect_object(*shape, at, "'shape'", errors)) return false;
+  const ErrorScope scope(errors);
+  const json* type = member(*shape, "type");
+  if (!type) {
+    errors.add(child(at, "type"), "'type' is required: one of " + join(choice_names(kShapeTypes)));
+    return false;
+  }
+  const std::optional<ShapeType> kind =
+      read_enum(*type, child(at, "type"), "type", kShapeTypes, errors);
+  if (kind == ShapeType::box) {
+    const Fields box(*shape, at, errors, "a box shape", {"type", "size"});
+    if (auto size = box.required_vec3("size", positive("m"))) {
+      object.shape = ShapeType::box;
+      object.box_size_m = *size;
+      object.mesh = geometry::make_box(*size);
+    }
+  } else if (kind == ShapeType::mesh) {
+    const Fields mesh_fields(*shape, at, errors, "a mesh shape", {"type", "vertices", "triangles"});
+    if (auto mesh = parse_mesh(mesh_fields, limits, errors)) {
+      if (auto problem = geometry::check_closed_mesh(*mesh)) {
+        errors.add(at, "the mesh cannot be simulated: " + *problem +
+                           "; give a closed mesh with triangles wound counter-clockwise seen "
+                           "from outside");
+      } else {
+        object.shape = ShapeType::mesh;
+        object.mesh = std::move(*mesh);
+      }
+    }
+  }
+  return scope.ok() && kind.has_value();
+}
+
 }  // namespace
 
 // ---------------------------------------------------------------------------------------------
@@ -249,46 +290,7 @@ std::optional<SceneObject> parse_object(const json& value, const std::string& po
     }
   }
 
-  bool shape_ok = false;
-  if (const json* shape =
-          fields.require("shape",
-                         "{\"type\": \"box\", \"size\": [x, y, z]} or {\"type\": \"mesh\", "
-                         "\"vertices\": [...], \"triangles\": [...]}")) {
-    const std::string at = fields.at("shape");
-    if (expect_object(*shape, at, "'shape'", errors)) {
-      const ErrorScope shape_scope(errors);
-      const json* type = member(*shape, "type");
-      std::optional<ShapeType> kind;
-      if (!type) {
-        errors.add(child(at, "type"),
-                   "'type' is required: one of " + join(choice_names(kShapeTypes)));
-      } else {
-        kind = read_enum(*type, child(at, "type"), "type", kShapeTypes, errors);
-      }
-      if (kind == ShapeType::box) {
-        const Fields box(*shape, at, errors, "a box shape", {"type", "size"});
-        if (auto size = box.required_vec3("size", positive("m"))) {
-          object.shape = ShapeType::box;
-          object.box_size_m = *size;
-          object.mesh = geometry::make_box(*size);
-        }
-      } else if (kind == ShapeType::mesh) {
-        const Fields mesh_fields(*shape, at, errors, "a mesh shape",
-                                 {"type", "vertices", "triangles"});
-        if (auto mesh = parse_mesh(mesh_fields, limits, errors)) {
-          if (auto problem = geometry::check_closed_mesh(*mesh)) {
-            errors.add(at, "the mesh cannot be simulated: " + *problem +
-                               "; give a closed mesh with triangles wound counter-clockwise seen "
-                               "from outside");
-          } else {
-            object.shape = ShapeType::mesh;
-            object.mesh = std::move(*mesh);
-          }
-        }
-      }
-      shape_ok = shape_scope.ok() && kind.has_value();
-    }
-  }
+  const bool shape_ok = parse_shape(fields, limits, object);
 
   object.position = fields.vec3("position", Vec3::Zero(), any_number("m"));
   object.orientation = fields.orientation("orientation");
@@ -297,11 +299,9 @@ std::optional<SceneObject> parse_object(const json& value, const std::string& po
   const MassOrDensity given = read_mass_or_density(fields);
   std::optional<double> density_kg_m3 = given.density_kg_m3;
   if (given.mass_kg) object.mass_kg = *given.mass_kg;
-  if (given.given) {
-    // Reported or read above.
-  } else if (material) {
+  if (!given.given && material) {
     density_kg_m3 = material->density_kg_m3;
-  } else if (!fields.get("material")) {
+  } else if (!given.given && !fields.get("material")) {
     errors.add(fields.at("mass"),
                "'mass' is required: give 'mass' (kg), 'density' (kg/m^3) or a 'material' (" +
                    material_names() + ")");

@@ -343,8 +343,9 @@ TEST(SceneErrors, EnumMessagesListTheChoicesAndSuggest) {
 // ---------------------------------------------------------------------------------------------
 // The example scenes in scenes/
 
+// The source tree, from the build (__FILE__ is relative when ccache's base_dir is set).
 std::filesystem::path repository_root() {
-  return std::filesystem::path(__FILE__).parent_path().parent_path().parent_path().parent_path();
+  return std::filesystem::path(BRISANCE_SOURCE_DIR);
 }
 
 ParseResult parse_file(const std::string& name) {

@@ -10,6 +10,8 @@
 #include <random>
 #include <sstream>
 
+#include "sim/geometry/queries.hpp"
+
 namespace brisance::fracture {
 
 namespace {
@@ -37,14 +39,6 @@ class Random {
  private:
   std::mt19937_64 engine_;
 };
-
-// Distance from p to the segment [a, b].
-double distance_to_segment(const Vec2& p, const Vec2& a, const Vec2& b) {
-  const Vec2 ab = b - a;
-  const double length2 = ab.squaredNorm();
-  const double t = length2 > 0.0 ? std::clamp((p - a).dot(ab) / length2, 0.0, 1.0) : 0.0;
-  return (a + t * ab - p).norm();
-}
 
 // Counter-clockwise angle from u to v in [0, 2π).
 double ccw_angle(const Vec2& u, const Vec2& v) {
@@ -195,7 +189,7 @@ bool Grower::ignorable(std::uint32_t tip, std::uint32_t owner, const Vec2& at) c
   }
   const Vec2& fork = tree_.nodes[tree_.tips[tip].start_node].position;
   return (at - fork).norm() < state.grace_m &&
-         distance_to_segment(fork, seg_start_[owner], seg_end_[owner]) < state.grace_m;
+         geometry::distance_to_segment(fork, seg_start_[owner], seg_end_[owner]) < state.grace_m;
 }
 
 bool Grower::enter_cell(std::uint32_t tip, std::size_t cell, const Vec2& from) {

@@ -9,6 +9,7 @@
 
 #include "sim/geometry/disjoint_sets.hpp"
 #include "sim/geometry/polygon.hpp"
+#include "sim/geometry/queries.hpp"
 
 namespace brisance::fracture {
 
@@ -29,14 +30,6 @@ struct Split {
   double t = 0.0;  // position along the segment, 0 at a, 1 at b
   Vec2 point;
 };
-
-double distance_to_segment(const Vec2& p, const Segment& s, double* t_out) {
-  const Vec2 ab = s.b - s.a;
-  const double length2 = ab.squaredNorm();
-  const double t = length2 > 0.0 ? std::clamp((p - s.a).dot(ab) / length2, 0.0, 1.0) : 0.0;
-  *t_out = t;
-  return (s.a + t * ab - p).norm();
-}
 
 // All crossings and T-junctions between segments, found through a uniform grid of buckets.
 // A pair is tested in the first bucket (lowest row, then column) that both bounding boxes share.
@@ -117,8 +110,8 @@ class Arrangement {
     const Segment& sj = segments_[j];
     const auto touch = [&](std::uint32_t onto, const Segment& target, const Vec2& q) {
       if ((q - target.a).norm() <= eps_ || (q - target.b).norm() <= eps_) return;
-      double t = 0.0;
-      if (distance_to_segment(q, target, &t) <= eps_) splits.push_back({onto, t, q});
+      const geometry::SegmentNearest nearest = geometry::nearest_on_segment(q, target.a, target.b);
+      if (nearest.distance_m <= eps_) splits.push_back({onto, nearest.t, q});
     };
     touch(i, si, sj.a);
     touch(i, si, sj.b);

@@ -327,6 +327,59 @@ void append_subdivided(const Vec3& a, const Vec3& b, const Vec3& c, double area_
   }
 }
 
+// The triangles' normals and areas and their grouping into faces: what make_panels and
+// count_panels both start from, so they cannot disagree about the faces.
+struct PanelFaces {
+  Box3 box;
+  std::vector<TriangleInfo> info;
+  std::vector<std::vector<std::uint32_t>> faces;
+};
+
+PanelFaces panel_faces(const TriangleMesh& mesh) {
+  PanelFaces result;
+  result.box = used_bounding_box(mesh);
+  result.info.resize(mesh.triangles.size());
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+    TriangleInfo& info = result.info[t];
+    const Vec3 doubled = doubled_vector_area(mesh, mesh.triangles[t]);
+    const double doubled_norm = doubled.norm();
+    info.usable = doubled_norm > 0.0 && std::isfinite(doubled_norm);
+    if (!info.usable) continue;
+    info.unit_normal = doubled / doubled_norm;
+    info.area_m2 = 0.5 * doubled_norm;
+  }
+  result.faces = coplanar_faces(mesh, result.info, kCoplanarOffsetFraction * result.box.diagonal());
+  return result;
+}
+
+// A face's area (summed in triangle order) and its largest triangle's, m^2.
+struct FaceArea {
+  double area_m2 = 0.0;
+  double largest_triangle_m2 = 0.0;
+};
+
+FaceArea face_area(const std::vector<std::uint32_t>& face, const std::vector<TriangleInfo>& info) {
+  FaceArea result;
+  for (std::uint32_t t : face) {
+    result.area_m2 += info[t].area_m2;
+    result.largest_triangle_m2 = std::max(result.largest_triangle_m2, info[t].area_m2);
+  }
+  return result;
+}
+
+// How often the triangles of a face larger than max_panel_area_m2 are subdivided: the smallest
+// level that brings every sub-triangle down to the limit, within the cap on sub-triangles.
+int subdivision_level(const FaceArea& area, std::size_t face_triangles, double max_panel_area_m2) {
+  int level = 0;
+  std::size_t pieces = 1;  // 4^level
+  while (std::ldexp(area.largest_triangle_m2, -2 * level) > max_panel_area_m2 &&
+         face_triangles * pieces * 4 <= kMaxSubTrianglesPerFace) {
+    ++level;
+    pieces *= 4;
+  }
+  return level;
+}
+
 }  // namespace
 
 TriangleMesh make_box(const Vec3& size_m) {
@@ -459,24 +512,12 @@ std::vector<Panel> make_panels(const TriangleMesh& mesh, double max_panel_area_m
   std::vector<Panel> panels;
   if (mesh.triangles.empty()) return panels;
 
-  const Box3 box = used_bounding_box(mesh);
-  const Vec3 reference = box.centre();  // centroids are summed relative to it, for accuracy
+  const PanelFaces faces = panel_faces(mesh);
+  const std::vector<TriangleInfo>& info = faces.info;
+  const Vec3 reference = faces.box.centre();  // centroids are summed relative to it, for accuracy
 
-  std::vector<TriangleInfo> info(mesh.triangles.size());
-  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
-    const Vec3 doubled = doubled_vector_area(mesh, mesh.triangles[t]);
-    const double doubled_norm = doubled.norm();
-    info[t].usable = doubled_norm > 0.0 && std::isfinite(doubled_norm);
-    if (!info[t].usable) continue;
-    info[t].unit_normal = doubled / doubled_norm;
-    info[t].area_m2 = 0.5 * doubled_norm;
-  }
-
-  const auto faces = coplanar_faces(mesh, info, kCoplanarOffsetFraction * box.diagonal());
-
-  for (const auto& face : faces) {
-    double area_m2 = 0.0;
-    double largest_triangle_m2 = 0.0;
+  for (const auto& face : faces.faces) {
+    const FaceArea area = face_area(face, info);
     Vec3 doubled_vector_area_sum = Vec3::Zero();
     Vec3 area_moment = Vec3::Zero();  // Σ area (centroid − reference)
     for (std::uint32_t t : face) {
@@ -485,27 +526,18 @@ std::vector<Panel> make_panels(const TriangleMesh& mesh, double max_panel_area_m
           ((mesh.vertices[tri[0]] - reference) + (mesh.vertices[tri[1]] - reference) +
            (mesh.vertices[tri[2]] - reference)) /
           3.0;
-      area_m2 += info[t].area_m2;
-      largest_triangle_m2 = std::max(largest_triangle_m2, info[t].area_m2);
       doubled_vector_area_sum += 2.0 * info[t].area_m2 * info[t].unit_normal;
       area_moment += info[t].area_m2 * centroid_from_reference;
     }
     const Vec3 normal = doubled_vector_area_sum.normalized();
-    const Vec3 centre = reference + area_moment / area_m2;
+    const Vec3 centre = reference + area_moment / area.area_m2;
     const double half_size_m = face_half_size(mesh, face, normal, centre);
 
-    if (area_m2 <= max_panel_area_m2) {
-      panels.push_back({centre, normal, area_m2, half_size_m});
+    if (area.area_m2 <= max_panel_area_m2) {
+      panels.push_back({centre, normal, area.area_m2, half_size_m});
       continue;
     }
-    // Smallest subdivision level that brings every sub-triangle down to the limit, within the cap.
-    int level = 0;
-    std::size_t pieces = 1;  // 4^level
-    while (std::ldexp(largest_triangle_m2, -2 * level) > max_panel_area_m2 &&
-           face.size() * pieces * 4 <= kMaxSubTrianglesPerFace) {
-      ++level;
-      pieces *= 4;
-    }
+    const int level = subdivision_level(area, face.size(), max_panel_area_m2);
     for (std::uint32_t t : face) {
       const auto& tri = mesh.triangles[t];
       append_subdivided(mesh.vertices[tri[0]], mesh.vertices[tri[1]], mesh.vertices[tri[2]],
@@ -513,6 +545,23 @@ std::vector<Panel> make_panels(const TriangleMesh& mesh, double max_panel_area_m
     }
   }
   return panels;
+}
+
+std::size_t count_panels(const TriangleMesh& mesh, double max_panel_area_m2) {
+  assert(max_panel_area_m2 > 0.0);  // also false for NaN
+  if (mesh.triangles.empty()) return 0;
+  const PanelFaces faces = panel_faces(mesh);
+  std::size_t count = 0;
+  for (const auto& face : faces.faces) {
+    const FaceArea area = face_area(face, faces.info);
+    if (area.area_m2 <= max_panel_area_m2) {
+      ++count;
+      continue;
+    }
+    // append_subdivided cuts each triangle into 4^level panels.
+    count += face.size() << (2 * subdivision_level(area, face.size(), max_panel_area_m2));
+  }
+  return count;
 }
 
 double surface_area(const TriangleMesh& mesh) {

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <array>
+#include <cstddef>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -55,6 +56,9 @@ struct Panel {
 // into panels of at most that area (each triangle split into 4^k similar triangles), so a large
 // face close to a charge is loaded panel by panel. Panel areas sum to the mesh's surface area.
 std::vector<Panel> make_panels(const TriangleMesh& mesh, double max_panel_area_m2);
+
+// make_panels(mesh, max_panel_area_m2).size(), without making the panels: for limits checks.
+std::size_t count_panels(const TriangleMesh& mesh, double max_panel_area_m2);
 
 // Total surface area, m^2.
 double surface_area(const TriangleMesh& mesh);

@@ -1,6 +1,6 @@
 // sim/scene/generators (private to sim/scene): expand the scene's `generators[]` entries into
-// plain objects. The parameters arrive here already validated by scene.cpp; the generators only do
-// geometry. Every generated object is a box.
+// plain objects. The parameters arrive here already validated by parse_generators.cpp; the
+// generators only do geometry. Every generated object is a box.
 #pragma once
 
 #include <array>

@@ -20,6 +20,7 @@
 
 #include "sim/blast/blast_point.hpp"
 #include "sim/blast/panel_load.hpp"
+#include "sim/dynamics/ground_contact.hpp"
 #include "sim/dynamics/rigid_body.hpp"
 #include "sim/engine/result.hpp"
 #include "sim/geometry/mesh.hpp"

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "sim/blast/panel_load.hpp"
+#include "sim/dynamics/ground_contact.hpp"
 #include "sim/dynamics/rigid_body.hpp"
 #include "sim/engine/model.hpp"
 #include "sim/engine/simulator.hpp"

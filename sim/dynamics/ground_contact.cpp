@@ -89,8 +89,9 @@ bool prepare_contacts(const BodyModel& model, BodyState& state, const Ground& gr
 // keeps its angular momentum about the edge. Of the impulse sets that do it, the
 // least-squares one is tried; if it pulls or leaves a disc anywhere, the sweeps decide (the
 // body slides, tips or lifts). Returns true (state and memory updated) if it holds.
-bool solve_sticking(const BodyModel& model, BodyState& state, const Ground& ground,
-                    ContactMemory* memory, const TouchingPoints& touching) {
+[[gnu::always_inline]] inline bool solve_sticking(const BodyModel& model, BodyState& state,
+                                                  const Ground& ground, ContactMemory* memory,
+                                                  const TouchingPoints& touching) {
   const std::size_t count = touching.count;
   const auto& arms = touching.arms;
   const Mat3& r = touching.rotation;

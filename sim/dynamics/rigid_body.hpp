@@ -1,7 +1,7 @@
 // sim/dynamics: rigid bodies — their read-only model, their state, and one integration step
-// under gravity, flight drag, damping and the blast's load impulses; ground contact with Coulomb
-// friction and restitution (thesis ch. 3, DESIGN.md decision 7). Knows nothing of blasts or
-// scenes: the engine hands it impulses.
+// under gravity, flight drag, damping and the blast's load impulses (thesis ch. 3, DESIGN.md
+// decision 7); ground contact is in ground_contact.hpp. Knows nothing of blasts or scenes: the
+// engine hands it impulses.
 #pragma once
 
 #include <array>
@@ -94,27 +94,5 @@ double kinetic_energy(const BodyModel& model, const BodyState& state);
 // estimate of the current one that costs nothing extra.
 Vec3 integrate(const BodyModel& model, BodyState& state, const StepLoads& loads,
                const WorldSettings& world, double dt);
-
-struct Ground {
-  double height_m = 0.0;
-  double friction = 0.5;
-  double restitution = 0.2;
-};
-
-// The impulses each hull point took from the ground last step (normal, along x, along z; N s),
-// so the next step starts from them (warm starting): a resting body's contact then settles in
-// one or two sweeps instead of eight.
-struct ContactMemory {
-  std::vector<std::array<double, 3>> impulses;  // per hull point; zero where not touching
-};
-
-// Resolves contact of a body with the plane y = ground.height_m after a step: pushes it out of
-// the ground and applies normal and friction impulses at the penetrating hull points. Without a
-// bounce it first tries to bring every touching point to rest at once (the body stops, or turns
-// about its edge or corner), which holds if no impulse pulls or leaves its Coulomb disc; else
-// sequential impulses with accumulated clamping, warm-started from `memory` when given.
-// Returns true if the body touches the ground.
-bool resolve_ground_contact(const BodyModel& model, BodyState& state, const Ground& ground,
-                            ContactMemory* memory = nullptr);
 
 }  // namespace brisance::dynamics

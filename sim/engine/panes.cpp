@@ -17,11 +17,6 @@ namespace {
 using Vec2 = Eigen::Vector2d;
 using Vec3 = Eigen::Vector3d;
 
-struct ChargeAt {
-  Vec3 position;
-  blast::Charge charge;
-};
-
 // splitmix64: a pane's pattern seed from the scene's seed and the pane's object index, so two
 // panes of one scene crack differently and a scene's seed changes all of them.
 std::uint64_t mix_seed(std::uint64_t seed, std::uint64_t index) {
@@ -35,9 +30,9 @@ std::uint64_t mix_seed(std::uint64_t seed, std::uint64_t index) {
 // centre, the largest over the charges (peaks of several charges rarely coincide; they are not
 // added). The plate formula takes a uniform pressure, so the centre's value stands for the pane.
 double peak_pressure_at(const Vec3& centre, const Vec3& normal,
-                        const std::vector<ChargeAt>& charges, bool& out_of_range) {
+                        const std::vector<ChargeModel>& charges, bool& out_of_range) {
   double peak = 0.0;
-  for (const ChargeAt& c : charges) {
+  for (const ChargeModel& c : charges) {
     const Vec3 d = centre - c.position;
     const double distance = std::max(d.norm(), 1e-3);
     const double cos_incidence = std::min(1.0, std::abs(normal.dot(d)) / distance);
@@ -51,9 +46,9 @@ double peak_pressure_at(const Vec3& centre, const Vec3& normal,
   return peak;
 }
 
-double earliest_arrival_s(const Vec3& point, const std::vector<ChargeAt>& charges) {
+double earliest_arrival_s(const Vec3& point, const std::vector<ChargeModel>& charges) {
   double earliest = INFINITY;
-  for (const ChargeAt& c : charges)
+  for (const ChargeModel& c : charges)
     earliest = std::min(
         earliest,
         blast::blast_point(c.charge, std::max((point - c.position).norm(), 1e-3)).arrival_time_s);
@@ -88,7 +83,7 @@ double perimeter(const geometry::Polygon& polygon) {
 // Panels of both faces (front +z, its mirror on the back −z) with clearing distance S, and the
 // faces plus side walls for the flight-drag shape. Polygon in the pane's centred frame.
 void fragment_panels(const geometry::Polygon& polygon, double thickness, double pane_half_size,
-                     bool own_clearing, FragmentBody& body) {
+                     bool own_clearing, BodySource& body) {
   std::vector<geometry::Panel> front = geometry::front_panels(polygon, thickness);
   body.load_panels.reserve(2 * front.size());
   for (geometry::Panel panel : front) {
@@ -118,178 +113,129 @@ void fragment_panels(const geometry::Polygon& polygon, double thickness, double 
 
 }  // namespace
 
-BrokenScene break_panes(const scene::Scene& scene) {
-  BrokenScene broken;
-  const bool any = std::any_of(scene.objects.begin(), scene.objects.end(),
-                               [](const scene::ObjectSpec& o) { return o.fracture.has_value(); });
-  if (!any) return broken;
-  broken.changed = true;
-  broken.scene.charges = scene.charges;
-  broken.scene.environment = scene.environment;
-  broken.scene.simulation = scene.simulation;
+PaneReport break_pane(const scene::ObjectSpec& object, std::size_t index,
+                      const std::vector<ChargeModel>& charges,
+                      const scene::SimulationSpec& simulation, std::vector<BodySource>& out,
+                      bool& out_of_range) {
+  const scene::FractureSpec& spec = *object.fracture;
+  assert(object.shape == scene::ShapeType::box);
+  const double width = object.box_size_m.x();
+  const double height = object.box_size_m.y();
+  const double thickness = object.box_size_m.z();
+  const Eigen::Quaterniond q = object.orientation.normalized();
+  const Vec3 normal = q * Vec3::UnitZ();
 
-  std::vector<ChargeAt> charges;
-  for (const scene::ChargeSpec& spec : scene.charges) {
-    blast::Charge c;
-    c.tnt_equivalent_kg = spec.mass_kg * spec.tnt_factor;
-    c.burst = spec.burst;
-    c.surface_model = spec.surface_model;
-    charges.push_back({spec.position, c});
+  PaneReport report;
+  report.name = object.name;
+  report.strength_pa = spec.strength_pa;
+  report.peak_pressure_pa = peak_pressure_at(object.position, normal, charges, out_of_range);
+  // The bit bucket's cell; forks closer than two cells cannot be told apart on the grid, and a
+  // growth length beyond half the pane gives no fork at all.
+  const double longer = std::max(width, height);
+  const double shorter = std::min(width, height);
+  const double cell = longer / spec.grid;
+  fracture::PaneFractureInput input;
+  input.width_m = width;
+  input.height_m = height;
+  input.thickness_m = thickness;
+  input.youngs_modulus_pa = spec.youngs_modulus_pa;
+  input.fracture_toughness_pa_sqrt_m = spec.fracture_toughness_pa_sqrt_m;
+  input.strength_pa = spec.strength_pa;
+  input.pressure_pa = report.peak_pressure_pa;
+  input.pattern_scale = spec.pattern_scale;
+  input.min_growth_length_m = 2.0 * cell;
+  input.max_growth_length_m = 0.5 * shorter;
+  const fracture::PaneFracture response = fracture::pane_fracture(input);
+  report.stress_pa = response.plate.stress_pa;
+  report.deflection_m = response.plate.deflection_m;
+  report.small_deflection = response.plate.small_deflection;
+  report.critical_crack_length_m = response.critical_crack_length_m;
+  report.forced = spec.trigger == scene::FractureSpec::Trigger::always && !response.breaks;
+  report.broken = response.breaks || report.forced;
+  report.empirical_mean_area_m2 = fracture::empirical_fragment_area_m2(report.peak_pressure_pa);
+  if (thickness > 7.62e-4 && report.peak_pressure_pa > 0.0)
+    report.empirical_mean_speed_m_s =
+        fracture::empirical_fragment_velocity_m_s(report.peak_pressure_pa, thickness);
+
+  if (!report.broken) {
+    // Skip what is not needed (decision 10): no pattern, the pane stays one body; in a frame
+    // it does not move.
+    BodySource pane = object_source(object, simulation.max_panel_area_m2);
+    if (spec.framed) pane.anchored = true;
+    out.push_back(std::move(pane));
+    return report;
   }
 
-  bool out_of_range = false;
-  bool large_deflection = false;
-  for (std::size_t index = 0; index < scene.objects.size(); ++index) {
-    const scene::ObjectSpec& object = scene.objects[index];
-    if (!object.fracture) {
-      broken.scene.objects.push_back(object);
-      broken.fragment_of.push_back(-1);
-      continue;
-    }
-    const scene::FractureSpec& spec = *object.fracture;
-    assert(object.shape == scene::ShapeType::box);
-    const double width = object.box_size_m.x();
-    const double height = object.box_size_m.y();
-    const double thickness = object.box_size_m.z();
-    const Eigen::Quaterniond q = object.orientation.normalized();
-    const Vec3 normal = q * Vec3::UnitZ();
-
-    PaneReport report;
-    report.name = object.name;
-    report.strength_pa = spec.strength_pa;
-    report.peak_pressure_pa = peak_pressure_at(object.position, normal, charges, out_of_range);
-    // The bit bucket's cell; forks closer than two cells cannot be told apart on the grid, and a
-    // growth length beyond half the pane gives no fork at all.
-    const double longer = std::max(width, height);
-    const double shorter = std::min(width, height);
-    const double cell = longer / spec.grid;
-    fracture::PaneFractureInput input;
-    input.width_m = width;
-    input.height_m = height;
-    input.thickness_m = thickness;
-    input.youngs_modulus_pa = spec.youngs_modulus_pa;
-    input.fracture_toughness_pa_sqrt_m = spec.fracture_toughness_pa_sqrt_m;
-    input.strength_pa = spec.strength_pa;
-    input.pressure_pa = report.peak_pressure_pa;
-    input.pattern_scale = spec.pattern_scale;
-    input.min_growth_length_m = 2.0 * cell;
-    input.max_growth_length_m = 0.5 * shorter;
-    const fracture::PaneFracture response = fracture::pane_fracture(input);
-    report.stress_pa = response.plate.stress_pa;
-    report.deflection_m = response.plate.deflection_m;
-    report.small_deflection = response.plate.small_deflection;
-    report.critical_crack_length_m = response.critical_crack_length_m;
-    report.forced = spec.trigger == scene::FractureSpec::Trigger::always && !response.breaks;
-    report.broken = response.breaks || report.forced;
-    report.empirical_mean_area_m2 = fracture::empirical_fragment_area_m2(report.peak_pressure_pa);
-    if (thickness > 7.62e-4 && report.peak_pressure_pa > 0.0)
-      report.empirical_mean_speed_m_s =
-          fracture::empirical_fragment_velocity_m_s(report.peak_pressure_pa, thickness);
-    large_deflection = large_deflection || !report.small_deflection;
-
-    if (!report.broken) {
-      // Skip what is not needed (decision 10): no pattern, the pane stays one body; in a frame
-      // it does not move.
-      scene::ObjectSpec pane = object;
-      pane.fracture.reset();
-      if (spec.framed) pane.anchored = true;
-      broken.scene.objects.push_back(std::move(pane));
-      broken.fragment_of.push_back(-1);
-      broken.reports.push_back(std::move(report));
-      continue;
-    }
-
-    // The pattern's growth length: given, or eq. 5.5's scaled (forced panes below any stress
-    // crack at the coarsest scale).
-    double growth = response.growth_length_m;
-    report.growth_length_clamped = response.clamped;
-    if (spec.growth_length_m) {
-      growth = std::clamp(*spec.growth_length_m, cell, input.max_growth_length_m);
-      report.growth_length_given = true;
-      report.growth_length_clamped = growth != *spec.growth_length_m;
-    } else if (!response.breaks) {
-      growth = input.max_growth_length_m;
-      report.growth_length_clamped = true;
-    }
-    report.growth_length_m = growth;
-
-    fracture::FractureParams params;
-    params.width_m = width;
-    params.height_m = height;
-    const int cells_short =
-        std::max(4, static_cast<int>(std::lround(spec.grid * shorter / longer)));
-    params.grid_x = width >= height ? spec.grid : cells_short;
-    params.grid_y = width >= height ? cells_short : spec.grid;
-    params.growth_length_m = growth;
-    // An X at the pane's centre, where a framed pane cracks first (thesis §5.4.1): four tips
-    // make an early death of the whole tree, which one segment's two tips can meet, unlikely.
-    params.initial.shape = fracture::InitialCrack::Shape::cross;
-    params.initial.length_m = std::min(2.0 * growth, 0.25 * shorter);
-    params.branch_angle_deg = spec.branch_angle_deg;
-    params.angle_variance_deg = spec.angle_variance_deg;
-    params.wiggle_probability = spec.wiggle_probability;
-    params.wiggle_variance_deg = spec.wiggle_variance_deg;
-    params.wiggle_length_m = 0.0;  // = a_c: the whole pattern scales with the growth length
-    params.seed = spec.seed ? *spec.seed : mix_seed(scene.simulation.seed, index);
-    assert(!fracture::validate(params));
-    const fracture::FracturePattern pattern = fracture::fracture(params);
-
-    const auto pane_index = static_cast<std::uint32_t>(broken.reports.size());
-    report.first_body = static_cast<std::uint32_t>(broken.scene.objects.size());
-    report.fragment_count = pattern.fragments.size();
-    const double density = object.mass_kg / (width * height * thickness);
-    const Vec2 half(0.5 * width, 0.5 * height);
-    const bool own_clearing = spec.clearing == scene::FractureSpec::Clearing::fragment;
-    for (std::size_t k = 0; k < pattern.fragments.size(); ++k) {
-      const fracture::Fragment& piece = pattern.fragments[k];
-      geometry::Polygon local = geometry::remove_collinear(piece.polygon_m);
-      for (Vec2& v : local)
-        v -= half;
-      FragmentBody body;
-      body.pane = pane_index;
-      body.frontal_area_m2 = piece.area_m2;
-      body.unit_mass = geometry::prism_mass_properties(local, thickness, 1.0);
-      fragment_panels(local, thickness, 0.5 * shorter, own_clearing, body);
-      // The hold (docs/fracture.md): the crack faces' interlock over the crack's area, and the
-      // glazing's grip along the frame.
-      const double on_border = border_length(piece.polygon_m, width, height);
-      const double crack_length = std::max(0.0, perimeter(piece.polygon_m) - on_border);
-      body.hold_n = spec.bond_strength_pa * crack_length * thickness;
-      if (spec.framed) body.hold_n += spec.frame_strength_pa * spec.frame_bite_m * on_border;
-      const Vec3 centroid_world = object.position + q * Vec3(piece.centroid_m.x() - half.x(),
-                                                             piece.centroid_m.y() - half.y(), 0.0);
-      body.arrival_time_s = earliest_arrival_s(centroid_world, charges);
-
-      scene::ObjectSpec fragment;
-      fragment.name = object.name + "/f" + std::to_string(k);
-      fragment.shape = scene::ShapeType::mesh;
-      fragment.mesh = geometry::extrude(local, thickness);
-      fragment.position = object.position;
-      fragment.orientation = object.orientation;
-      fragment.mass_kg = density * body.unit_mass.volume_m3;
-      fragment.friction = object.friction;
-      fragment.drag_coefficient = object.drag_coefficient;
-      fragment.rotates = object.rotates;
-      fragment.blocks = object.blocks;
-      fragment.material = object.material;
-      broken.fragment_of.push_back(static_cast<std::int32_t>(broken.fragments.size()));
-      broken.fragments.push_back(std::move(body));
-      broken.scene.objects.push_back(std::move(fragment));
-    }
-    broken.reports.push_back(std::move(report));
+  // The pattern's growth length: given, or eq. 5.5's scaled (forced panes below any stress
+  // crack at the coarsest scale).
+  double growth = response.growth_length_m;
+  report.growth_length_clamped = response.clamped;
+  if (spec.growth_length_m) {
+    growth = std::clamp(*spec.growth_length_m, cell, input.max_growth_length_m);
+    report.growth_length_given = true;
+    report.growth_length_clamped = growth != *spec.growth_length_m;
+  } else if (!response.breaks) {
+    growth = input.max_growth_length_m;
+    report.growth_length_clamped = true;
   }
-  if (out_of_range)
-    broken.warnings.emplace_back(
-        "blast_out_of_range",
-        "a panel lies outside the Kingery-Bulmash fitted range (Z 0.05-40 m/kg^(1/3)); its load is "
-        "continued from the range's end (see docs/blast-model.md)");
-  if (large_deflection)
-    broken.warnings.emplace_back(
-        "pane_large_deflection",
-        "a pane's small-deflection bending stress (Roark table 11.4) implies a deflection beyond "
-        "half its thickness, where membrane action carries part of the load: its stress, and "
-        "with it the fracture scale, is an upper estimate (docs/fracture.md)");
-  return broken;
+  report.growth_length_m = growth;
+
+  fracture::FractureParams params;
+  params.width_m = width;
+  params.height_m = height;
+  const int cells_short = std::max(4, static_cast<int>(std::lround(spec.grid * shorter / longer)));
+  params.grid_x = width >= height ? spec.grid : cells_short;
+  params.grid_y = width >= height ? cells_short : spec.grid;
+  params.growth_length_m = growth;
+  // An X at the pane's centre, where a framed pane cracks first (thesis §5.4.1): four tips
+  // make an early death of the whole tree, which one segment's two tips can meet, unlikely.
+  params.initial.shape = fracture::InitialCrack::Shape::cross;
+  params.initial.length_m = std::min(2.0 * growth, 0.25 * shorter);
+  params.branch_angle_deg = spec.branch_angle_deg;
+  params.angle_variance_deg = spec.angle_variance_deg;
+  params.wiggle_probability = spec.wiggle_probability;
+  params.wiggle_variance_deg = spec.wiggle_variance_deg;
+  params.wiggle_length_m = 0.0;  // = a_c: the whole pattern scales with the growth length
+  params.seed = spec.seed ? *spec.seed : mix_seed(simulation.seed, index);
+  assert(!fracture::validate(params));
+  const fracture::FracturePattern pattern = fracture::fracture(params);
+
+  report.first_body = static_cast<std::uint32_t>(out.size());
+  report.fragment_count = pattern.fragments.size();
+  const double density = object.mass_kg / (width * height * thickness);
+  const Vec2 half(0.5 * width, 0.5 * height);
+  const bool own_clearing = spec.clearing == scene::FractureSpec::Clearing::fragment;
+  for (std::size_t k = 0; k < pattern.fragments.size(); ++k) {
+    const fracture::Fragment& piece = pattern.fragments[k];
+    geometry::Polygon local = geometry::remove_collinear(piece.polygon_m);
+    for (Vec2& v : local)
+      v -= half;
+    BodySource body;
+    body.name = object.name + "/f" + std::to_string(k);
+    body.fragment = true;
+    body.frontal_area_m2 = piece.area_m2;
+    body.unit_mass = geometry::prism_mass_properties(local, thickness, 1.0);
+    fragment_panels(local, thickness, 0.5 * shorter, own_clearing, body);
+    // The hold (docs/fracture.md): the crack faces' interlock over the crack's area, and the
+    // glazing's grip along the frame.
+    const double on_border = border_length(piece.polygon_m, width, height);
+    const double crack_length = std::max(0.0, perimeter(piece.polygon_m) - on_border);
+    double hold = spec.bond_strength_pa * crack_length * thickness;
+    if (spec.framed) hold += spec.frame_strength_pa * spec.frame_bite_m * on_border;
+    body.breakaway_hold_n = hold;
+    const Vec3 centroid_world = object.position + q * Vec3(piece.centroid_m.x() - half.x(),
+                                                           piece.centroid_m.y() - half.y(), 0.0);
+    body.release_not_before_s = earliest_arrival_s(centroid_world, charges);
+    body.mesh = geometry::extrude(local, thickness);
+    body.position = object.position;
+    body.orientation = object.orientation;
+    body.mass_kg = density * body.unit_mass.volume_m3;
+    body.friction = object.friction;
+    body.drag_coefficient = object.drag_coefficient;
+    body.rotates = object.rotates;
+    out.push_back(std::move(body));
+  }
+  return report;
 }
 
 }  // namespace brisance::engine

@@ -8,6 +8,8 @@
 
 #include <gtest/gtest.h>
 
+#include "sim/dynamics/ground_contact.hpp"
+
 namespace brisance::dynamics {
 namespace {
 

@@ -1,0 +1,317 @@
+// sim/dynamics/ground_contact: a body against the ground plane, in named stages —
+//   prepare_contacts   push the body out; the touching hull points, their arms and approach speeds
+//   solve_sticking     the exact solve that brings every touching point to rest at once
+//   make_contacts      effective masses and each contact's target normal speed (restitution)
+//   warm_start         last step's impulses, kept inside their Coulomb discs
+//   solve_sweeps       sequential impulses with accumulated clamping
+//   store_impulses     the impulses for the next step's warm start
+// Every stage keeps the floating-point operations of the single function it came from, so
+// results are bit-identical.
+#include "sim/dynamics/ground_contact.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+
+namespace brisance::dynamics {
+
+namespace {
+
+constexpr double kContactMargin_m = 1e-4;     // points this close count as touching
+constexpr double kBounceThreshold_m_s = 0.5;  // slower impacts do not bounce (no jitter)
+constexpr int kIterations = 8;
+constexpr std::size_t kMaxContacts = 16;
+
+Mat3 inverse_inertia_world(const BodyModel& model, const Quat& orientation) {
+  if (!model.rotates) return Mat3::Zero();
+  const Mat3 r = orientation.toRotationMatrix();
+  return r * model.inverse_inertia_body * r.transpose();
+}
+
+// The touching hull points (at most kMaxContacts), their arms from the centre of mass and
+// their normal speeds before any impulse (for restitution); the body's rotation, world inverse
+// inertia and angular velocity at contact.
+struct TouchingPoints {
+  std::array<std::size_t, kMaxContacts> points;
+  std::array<Vec3, kMaxContacts> arms;
+  std::array<double, kMaxContacts> approach;
+  std::size_t count = 0;
+  bool bounces = false;
+  Mat3 rotation;
+  Mat3 inverse_inertia;
+  Vec3 omega;
+};
+
+// Stage 1. Returns false if the body does not touch the ground.
+bool prepare_contacts(const BodyModel& model, BodyState& state, const Ground& ground,
+                      ContactMemory* memory, TouchingPoints& touching) {
+  if (state.position.y() - model.bounding_radius_m > ground.height_m + kContactMargin_m)
+    return false;
+  const Mat3 r = state.orientation.toRotationMatrix();
+  double lowest = INFINITY;
+  for (const Vec3& p : model.hull_points)
+    lowest = std::min(lowest, state.position.y() + r.row(1).dot(p));
+  if (memory != nullptr) memory->impulses.resize(model.hull_points.size());
+  if (lowest > ground.height_m + kContactMargin_m) {
+    if (memory != nullptr)
+      std::fill(memory->impulses.begin(), memory->impulses.end(), std::array<double, 3>{});
+    return false;
+  }
+  if (lowest < ground.height_m) state.position.y() += ground.height_m - lowest;
+
+  touching.rotation = r;
+  touching.inverse_inertia = inverse_inertia_world(model, state.orientation);
+  touching.omega = touching.inverse_inertia * state.angular_momentum;
+  for (std::size_t i = 0; i < model.hull_points.size(); ++i) {
+    const Vec3 arm = r * model.hull_points[i];
+    const bool touches = state.position.y() + arm.y() <= ground.height_m + kContactMargin_m;
+    if (!touches || touching.count == kMaxContacts) {
+      if (memory != nullptr) memory->impulses[i] = {};
+      continue;
+    }
+    const std::size_t k = touching.count;
+    touching.points[k] = i;
+    touching.arms[k] = arm;
+    touching.approach[k] = (state.velocity + touching.omega.cross(arm)).y();
+    touching.bounces = touching.bounces || touching.approach[k] < -kBounceThreshold_m_s;
+    ++touching.count;
+  }
+  return true;
+}
+
+// Stage 2. Sticking: with no bounce, the contact may bring every touching point to rest at once.
+// That is an exact solution of the contact problem when some set of contact impulses does it
+// with each impulse pushing (not pulling) and inside its Coulomb disc, and it is the one the
+// sweeps converge to, only slowly for a brick on a narrow face or an edge (measured: half the
+// brick wall's contacts stopped at the sweep limit, 1e-5 m/s away). With three or more points
+// not on one line the body stops: sum F_i = -m v, sum r_i x F_i = -L. On one point it turns
+// about it and keeps its angular momentum about it; on two, it turns about their edge and
+// keeps its angular momentum about the edge. Of the impulse sets that do it, the
+// least-squares one is tried; if it pulls or leaves a disc anywhere, the sweeps decide (the
+// body slides, tips or lifts). Returns true (state and memory updated) if it holds.
+[[gnu::always_inline]] inline bool solve_sticking(const BodyModel& model, BodyState& state,
+                                                  const Ground& ground, ContactMemory* memory,
+                                                  const TouchingPoints& touching) {
+  const std::size_t count = touching.count;
+  const auto& arms = touching.arms;
+  const Mat3& r = touching.rotation;
+  std::array<Vec3, kMaxContacts> forces;
+  Vec3 velocity_after = Vec3::Zero();
+  Vec3 momentum_after = Vec3::Zero();
+  bool solved = false;
+  if (count >= 3) {
+    // About the points' centroid c: F_i = J / n + t x (r_i - c) with S t = H_c,
+    // S = sum |r_i - c|^2 I - (r_i - c)(r_i - c)^T.
+    const double n = static_cast<double>(count);
+    Vec3 centroid = Vec3::Zero();
+    for (std::size_t i = 0; i < count; ++i)
+      centroid += arms[i];
+    centroid /= n;
+    Mat3 spread = Mat3::Zero();
+    for (std::size_t i = 0; i < count; ++i) {
+      const Vec3 d = arms[i] - centroid;
+      spread -= d * d.transpose();
+      spread.diagonal().array() += d.squaredNorm();
+    }
+    const Vec3 impulse = -model.mass_kg * state.velocity;
+    const Vec3 torque = -state.angular_momentum - centroid.cross(impulse);  // about c
+    // Points (nearly) on one line cannot take a torque about that line.
+    const double scale = spread.trace() / 3.0;
+    if (spread.determinant() > 1e-6 * scale * scale * scale) {
+      const Vec3 twist = spread.inverse() * torque;
+      const Vec3 share = impulse / n;
+      for (std::size_t i = 0; i < count; ++i)
+        forces[i] = share + twist.cross(arms[i] - centroid);
+      solved = true;
+    }
+  } else {
+    // Turning about the first point p: angular momentum about p, L - r x m v, is kept, with
+    // the inertia about p (parallel axes); the centre then moves at r x w.
+    const Vec3& arm = arms[0];
+    const Mat3 inertia = r * model.inertia_body * r.transpose();
+    Mat3 about_point = inertia - model.mass_kg * arm * arm.transpose();
+    about_point.diagonal().array() += model.mass_kg * arm.squaredNorm();
+    const Vec3 momentum_about = state.angular_momentum - arm.cross(model.mass_kg * state.velocity);
+    Vec3 omega_after = Vec3::Zero();
+    const Vec3 edge = count == 2 ? Vec3(arms[1] - arm) : Vec3::Zero();
+    if (count == 1) {
+      omega_after = about_point.inverse() * momentum_about;
+      solved = true;
+    } else if (edge.squaredNorm() > 1e-12) {
+      const Vec3 axis = edge.normalized();
+      omega_after = (axis.dot(momentum_about) / axis.dot(about_point * axis)) * axis;
+      solved = true;
+    }
+    if (solved) {
+      velocity_after = arm.cross(omega_after);
+      momentum_after = inertia * omega_after;
+      const Vec3 impulse = model.mass_kg * (velocity_after - state.velocity);
+      if (count == 1) {
+        forces[0] = impulse;
+      } else {
+        // The second point takes the torque about the first; the pair shares the push along
+        // their edge equally.
+        const Vec3 torque = momentum_after - state.angular_momentum - arm.cross(impulse);
+        const Vec3 axis = edge.normalized();
+        forces[1] = torque.cross(edge) / edge.squaredNorm() + 0.5 * impulse.dot(axis) * axis;
+        forces[0] = impulse - forces[1];
+      }
+    }
+  }
+  bool holds = solved;
+  for (std::size_t i = 0; i < count && holds; ++i) {
+    const Vec3& f = forces[i];
+    const double limit = ground.friction * f.y();
+    holds = f.y() >= 0.0 && f.x() * f.x() + f.z() * f.z() <= limit * limit;
+  }
+  if (!holds) return false;
+  state.velocity = velocity_after;
+  state.angular_momentum = momentum_after;
+  if (memory != nullptr)
+    for (std::size_t i = 0; i < count; ++i)
+      memory->impulses[touching.points[i]] = {forces[i].y(), forces[i].x(), forces[i].z()};
+  return true;
+}
+
+// Per contact, everything that stays fixed over the sweeps: for the normal and the two ground
+// axes, the angular velocity one unit of impulse adds (I^-1 (r x axis)) and the effective mass,
+// so a sweep is a few dot products (friction along the fixed x and z axes, clamped to the
+// Coulomb disc).
+struct Axis {
+  Vec3 spin;            // I^-1 (arm x axis)
+  double inverse_mass;  // 1/m + (arm x axis) . I^-1 (arm x axis)
+};
+struct Contact {
+  std::size_t point;  // index into hull_points
+  Vec3 arm;
+  double target_speed;  // normal speed after the impulses: 0, or a bounce for fast impacts
+  Axis normal, along_x, along_z;
+  double normal_impulse = 0.0;
+  double friction_x = 0.0, friction_z = 0.0;
+};
+using Contacts = std::array<Contact, kMaxContacts>;
+
+// The velocities the impulses act on, world frame.
+struct Velocities {
+  Vec3 linear;
+  Vec3 omega;
+};
+
+// Stage 3. Restitution: an impact faster than kBounceThreshold_m_s bounces back at
+// restitution times its approach speed; slower ones stop (no jitter).
+void make_contacts(const BodyModel& model, const Ground& ground, const TouchingPoints& touching,
+                   Contacts& contacts) {
+  auto axis = [&](const Vec3& arm, const Vec3& direction) {
+    const Vec3 lever = arm.cross(direction);
+    const Vec3 spin = touching.inverse_inertia * lever;
+    return Axis{spin, model.inverse_mass + lever.dot(spin)};
+  };
+  for (std::size_t i = 0; i < touching.count; ++i) {
+    const Vec3& arm = touching.arms[i];
+    const double approach = touching.approach[i];
+    const double target = approach < -kBounceThreshold_m_s ? -ground.restitution * approach : 0.0;
+    contacts[i] = Contact{
+        touching.points[i],      arm, target, axis(arm, Vec3::UnitY()), axis(arm, Vec3::UnitX()),
+        axis(arm, Vec3::UnitZ())};
+  }
+}
+
+inline void push(const BodyModel& model, Velocities& v, const Vec3& direction, const Axis& a,
+                 double impulse) {
+  v.linear += impulse * model.inverse_mass * direction;
+  v.omega += impulse * a.spin;
+}
+
+// Stage 4. Warm start: last step's impulses (friction kept inside the Coulomb disc).
+void warm_start(const BodyModel& model, const Ground& ground, const ContactMemory& memory,
+                std::size_t count, Contacts& contacts, Velocities& v) {
+  for (std::size_t i = 0; i < count; ++i) {
+    Contact& c = contacts[i];
+    const auto& last = memory.impulses[c.point];
+    c.normal_impulse = std::max(0.0, last[0]);
+    const double limit = ground.friction * c.normal_impulse;
+    const double squared = last[1] * last[1] + last[2] * last[2];
+    const double scale = squared > limit * limit ? limit / std::sqrt(squared) : 1.0;
+    c.friction_x = last[1] * scale;
+    c.friction_z = last[2] * scale;
+    push(model, v, Vec3::UnitY(), c.normal, c.normal_impulse);
+    push(model, v, Vec3::UnitX(), c.along_x, c.friction_x);
+    push(model, v, Vec3::UnitZ(), c.along_z, c.friction_z);
+  }
+}
+
+// Stage 5. Sequential impulses with accumulated clamping, until a sweep changes velocities by
+// under 1 um/s or kIterations sweeps.
+void solve_sweeps(const BodyModel& model, const Ground& ground, std::size_t count,
+                  Contacts& contacts, Velocities& v) {
+  for (int iteration = 0; iteration < kIterations; ++iteration) {
+    double largest_change = 0.0;  // N s, this sweep
+    for (std::size_t i = 0; i < count; ++i) {
+      Contact& c = contacts[i];
+      // Normal: no approach, or a bounce for fast impacts.
+      const double vn = v.linear.y() + v.omega.z() * c.arm.x() - v.omega.x() * c.arm.z();
+      const double accumulated =
+          std::max(c.normal_impulse + (c.target_speed - vn) / c.normal.inverse_mass, 0.0);
+      const double dn = accumulated - c.normal_impulse;
+      c.normal_impulse = accumulated;
+      push(model, v, Vec3::UnitY(), c.normal, dn);
+      // Coulomb friction against the sliding velocity, within mu times the normal impulse.
+      // (Squared magnitudes: std::hypot's overflow guard cost more than the rest of the sweep.)
+      const Vec3 slip = v.linear + v.omega.cross(c.arm);
+      double fx = c.friction_x - slip.x() / c.along_x.inverse_mass;
+      double fz = c.friction_z - slip.z() / c.along_z.inverse_mass;
+      const double limit = ground.friction * c.normal_impulse;
+      const double squared = fx * fx + fz * fz;
+      if (squared > limit * limit) {
+        const double scale = limit / std::sqrt(squared);
+        fx *= scale;
+        fz *= scale;
+      }
+      const double dx = fx - c.friction_x, dz = fz - c.friction_z;
+      c.friction_x = fx;
+      c.friction_z = fz;
+      push(model, v, Vec3::UnitX(), c.along_x, dx);
+      push(model, v, Vec3::UnitZ(), c.along_z, dz);
+      largest_change = std::max({largest_change, std::abs(dn), std::abs(dx), std::abs(dz)});
+    }
+    // Converged: a further sweep would change velocities by under 1 um/s.
+    if (largest_change * model.inverse_mass < 1e-6) break;
+  }
+}
+
+// Stage 6. The swept impulses applied to the body and kept for the next step.
+void store_impulses(std::size_t count, const Contacts& contacts, const Velocities& v,
+                    BodyState& state, ContactMemory* memory) {
+  // The angular impulse is linear in the contact impulses: summed once from their totals.
+  Vec3 angular_impulse = Vec3::Zero();
+  for (std::size_t i = 0; i < count; ++i) {
+    const Contact& c = contacts[i];
+    angular_impulse += c.arm.cross(Vec3(c.friction_x, c.normal_impulse, c.friction_z));
+  }
+  state.velocity = v.linear;
+  state.angular_momentum += angular_impulse;
+  if (memory != nullptr)
+    for (std::size_t i = 0; i < count; ++i)
+      memory->impulses[contacts[i].point] = {contacts[i].normal_impulse, contacts[i].friction_x,
+                                             contacts[i].friction_z};
+}
+
+}  // namespace
+
+bool resolve_ground_contact(const BodyModel& model, BodyState& state, const Ground& ground,
+                            ContactMemory* memory) {
+  TouchingPoints touching;
+  if (!prepare_contacts(model, state, ground, memory, touching)) return false;
+  if (!touching.bounces && model.rotates && touching.count > 0 &&
+      solve_sticking(model, state, ground, memory, touching))
+    return true;
+  Contacts contacts;
+  make_contacts(model, ground, touching, contacts);
+  Velocities velocities{state.velocity, touching.omega};
+  if (memory != nullptr) warm_start(model, ground, *memory, touching.count, contacts, velocities);
+  solve_sweeps(model, ground, touching.count, contacts, velocities);
+  store_impulses(touching.count, contacts, velocities, state, memory);
+  return true;
+}
+
+}  // namespace brisance::dynamics

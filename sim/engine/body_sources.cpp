@@ -1,0 +1,80 @@
+// sim/engine/body_sources: the first prepare stage — every scene object becomes one body
+// source, except breakable panes, which panes.cpp breaks into fragment sources (or leaves one
+// body). Prepare then builds all bodies from this one list. Also the one charge → blast charge
+// conversion.
+#include <algorithm>
+
+#include "sim/engine/model.hpp"
+#include "sim/engine/panes.hpp"
+
+namespace brisance::engine {
+
+blast::Charge blast_charge(const scene::ChargeSpec& spec) {
+  blast::Charge charge;
+  charge.tnt_equivalent_kg = spec.mass_kg * spec.tnt_factor;
+  charge.burst = spec.burst;
+  charge.surface_model = spec.surface_model;
+  return charge;
+}
+
+Box world_box(const BodySource& source) {
+  Box box{Vec3::Constant(INFINITY), Vec3::Constant(-INFINITY)};
+  for (const Vec3& v : source.mesh.vertices) {
+    const Vec3 p = source.position + source.orientation * v;
+    box.min = box.min.cwiseMin(p);
+    box.max = box.max.cwiseMax(p);
+  }
+  return box;
+}
+
+BodySource object_source(const scene::ObjectSpec& object, double max_panel_area_m2) {
+  BodySource source;
+  source.name = object.name;
+  source.mesh = object.mesh;
+  source.position = object.position;
+  source.orientation = object.orientation;
+  source.mass_kg = object.mass_kg;
+  source.friction = object.friction;
+  source.drag_coefficient = object.drag_coefficient;
+  source.anchored = object.anchored;
+  source.rotates = object.rotates;
+  source.unit_mass = geometry::mass_properties(object.mesh, 1.0);
+  source.load_panels = geometry::make_panels(object.mesh, max_panel_area_m2);
+  return source;
+}
+
+BodySources body_sources(const scene::Scene& scene) {
+  BodySources sources;
+  sources.bodies.reserve(scene.objects.size());
+  std::vector<ChargeModel> charges;
+  for (const scene::ChargeSpec& spec : scene.charges)
+    charges.push_back({spec.position, blast_charge(spec)});
+  bool out_of_range = false;
+  bool large_deflection = false;
+  for (std::size_t index = 0; index < scene.objects.size(); ++index) {
+    const scene::ObjectSpec& object = scene.objects[index];
+    if (!object.fracture) {
+      sources.bodies.push_back(object_source(object, scene.simulation.max_panel_area_m2));
+      continue;
+    }
+    // Breakable panes (DESIGN.md decision 9): a broken pane's fragments take its place.
+    PaneReport report =
+        break_pane(object, index, charges, scene.simulation, sources.bodies, out_of_range);
+    large_deflection = large_deflection || !report.small_deflection;
+    sources.reports.push_back(std::move(report));
+  }
+  if (out_of_range)
+    sources.warnings.emplace_back(
+        "blast_out_of_range",
+        "a panel lies outside the Kingery-Bulmash fitted range (Z 0.05-40 m/kg^(1/3)); its load is "
+        "continued from the range's end (see docs/blast-model.md)");
+  if (large_deflection)
+    sources.warnings.emplace_back(
+        "pane_large_deflection",
+        "a pane's small-deflection bending stress (Roark table 11.4) implies a deflection beyond "
+        "half its thickness, where membrane action carries part of the load: its stress, and "
+        "with it the fracture scale, is an upper estimate (docs/fracture.md)");
+  return sources;
+}
+
+}  // namespace brisance::engine

@@ -1,0 +1,174 @@
+// sim/engine/model (private to the engine): what prepare builds and stepping reads — the body
+// sources prepare starts from, the read-only Model (STYLE.md §1: it owns its values and points
+// nowhere into the scene), the one charge → blast charge conversion, the warning log, and the
+// prepare stages. Each stage lives in its own file:
+//   body_sources.cpp       scene objects and broken panes → one uniform list of bodies to create
+//   panes.cpp              breaking one pane into fragment sources (DESIGN.md decision 9)
+//   prepare_holds.cpp      friction holds: the weight each body carries (thesis §3.6)
+//   clearing_surfaces.cpp  clearing distances shared across contiguous coplanar surfaces
+//   prepare.cpp            bodies, panels, charges and the arrival-ordered panel events
+// A new prepare-time system (occlusion: an attenuation per panel, once per charge) is one more
+// stage that fills one more per-panel field of the Model.
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "sim/blast/blast_point.hpp"
+#include "sim/blast/panel_load.hpp"
+#include "sim/dynamics/ground_contact.hpp"
+#include "sim/dynamics/rigid_body.hpp"
+#include "sim/engine/result.hpp"
+#include "sim/geometry/mesh.hpp"
+#include "sim/scene/scene.hpp"
+
+namespace brisance::engine {
+
+using dynamics::Quat;
+using dynamics::Vec3;
+
+// The blast charge a scene charge detonates (TNT equivalent W = mass × factor, DESIGN.md
+// decision 1).
+blast::Charge blast_charge(const scene::ChargeSpec& spec);
+
+// One body to create. Scene objects and the fragments of broken panes alike: prepare builds
+// every body from this list the same way.
+struct BodySource {
+  std::string name;
+  geometry::TriangleMesh mesh;          // shape frame
+  Vec3 position = Vec3::Zero();         // world position of the shape's origin, m
+  Quat orientation = Quat::Identity();  // shape to world, as given (not normalised)
+  double mass_kg = 0.0;
+  double friction = 0.5;
+  double drag_coefficient = 1.0;
+  bool anchored = false;
+  bool rotates = true;
+  geometry::MassProperties unit_mass;        // at 1 kg/m^3, shape frame
+  std::vector<geometry::Panel> load_panels;  // shape frame
+  std::vector<geometry::Panel> drag_panels;  // for the flight-drag shape; empty: load_panels
+  // A hold that breaks once and for all (a fragment's frame grip and crack interlock), N;
+  // none: friction on what the body rests on.
+  std::optional<double> breakaway_hold_n;
+  double release_not_before_s = 0.0;  // a fragment: the first wave at its centroid, s
+  // Fragments of a broken pane: their clearing distance is their pane's choice, never shared
+  // with their coplanar neighbours; their release and launch are reported.
+  bool fragment = false;
+  double frontal_area_m2 = 0.0;  // fragments only
+};
+
+struct BodySources {
+  std::vector<BodySource> bodies;
+  std::vector<PaneReport> reports;                            // one per breakable pane
+  std::vector<std::pair<std::string, std::string>> warnings;  // code, message
+};
+
+enum class Motion : std::uint8_t {
+  anchored,  // never moves
+  held,      // resting, held by friction until its load beats mu N (thesis §3.6)
+  awake,     // integrated every step
+  asleep,    // came to rest on the ground; woken by a new load
+};
+
+// A panel in its body's frame, relative to the body's centre of mass.
+struct PanelModel {
+  std::uint32_t body;
+  Vec3 centre;
+  Vec3 normal;  // outward, unit
+  double area_m2;
+  double clearing_distance_m;
+};
+
+struct ChargeModel {
+  Vec3 position;  // world, m
+  blast::Charge charge;
+};
+
+// The wave of one charge reaching one panel (thesis §3.5.3). The arrival time comes from the
+// Kingery–Bulmash fit at the panel's starting distance rather than from integrating U.
+struct PanelEvent {
+  double arrival_time_s;
+  std::uint32_t panel;
+  std::uint32_t charge;
+};
+
+// The run's clock: how long, how often a frame, how the step is chosen.
+struct Timing {
+  double duration_s = 2.0;
+  double frame_rate_hz = 30.0;
+  std::optional<double> time_step_s;  // fixed step; absent: adaptive from `tolerance`
+  double tolerance = 1e-3;
+  bool sleep = true;  // bodies at rest on the ground stop being integrated
+};
+
+// Everything that does not change while stepping (STYLE.md §1), per body in body order.
+struct Model {
+  std::vector<dynamics::BodyModel> bodies;
+  std::vector<dynamics::BodyState> initial_states;  // at rest, the scene's poses
+  std::vector<Vec3> centre_of_mass;  // shape frame: from the shape's origin to the centre of mass
+  std::vector<double> hold_force_n;  // mu N, N: own weight plus the weight resting on it
+  std::vector<std::uint8_t>
+      supported;  // held on other bodies: friction resists its loads (eq. 2.40)
+  std::vector<Motion> initial_motion;
+  // Fragments of broken panes (thesis §6.7): whether a body is one, and the earliest time it
+  // may break free (the wave's arrival at its centroid; 0 for others).
+  std::vector<std::uint8_t> fragment;
+  std::vector<double> release_not_before_s;
+  std::vector<PanelModel> panels;
+  std::vector<ChargeModel> charges;
+  std::vector<PanelEvent> events;  // ascending arrival time
+  dynamics::WorldSettings world;
+  std::optional<dynamics::Ground> ground;
+  blast::PanelLoadOptions load_options;
+  double rotation_factor = 1.0;
+  Timing timing;
+};
+
+class WarningLog {
+ public:
+  void add(const std::string& code, const std::string& message, std::uint64_t count = 1) {
+    auto [it, inserted] = warnings_.try_emplace(code, Warning{code, message, 0});
+    it->second.count += count;
+  }
+  std::vector<Warning> list() const {
+    std::vector<Warning> out;
+    for (const auto& [code, warning] : warnings_)
+      out.push_back(warning);
+    return out;
+  }
+
+ private:
+  std::map<std::string, Warning> warnings_;
+};
+
+// World-axis bounding box of a body at its starting pose.
+struct Box {
+  Vec3 min;
+  Vec3 max;
+};
+Box world_box(const BodySource& source);
+
+// --- Prepare stages, in the order prepare runs them ---
+
+// Every body the run creates: scene objects as they are, breakable panes broken or not.
+BodySources body_sources(const scene::Scene& scene);
+
+// The normal force each body presses down with at the start: its own weight plus its share of
+// the bodies resting on it, N (prepare_holds.cpp).
+std::vector<double> supported_weights(const std::vector<BodySource>& sources, double gravity);
+
+// Widens each panel's clearing distance to the contiguous coplanar surface it lies in
+// (clearing_surfaces.cpp).
+void share_clearing_across_surfaces(const std::vector<BodySource>& sources, Model& model);
+
+// The read-only model; moves each source's mesh into `bodies` (the result's body list).
+Model prepare(const scene::Scene& scene, std::vector<BodySource>& sources,
+              std::vector<BodyInfo>& bodies, Stats& stats);
+
+// The pose of a body's shape origin from the state of its centre of mass.
+Pose origin_pose(const Model& model, std::size_t body, const dynamics::BodyState& state);
+
+}  // namespace brisance::engine

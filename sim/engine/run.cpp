@@ -1,0 +1,371 @@
+// sim/engine/run: the stepping loop (DESIGN.md decision 6) — init from the model, a loop of
+// steps made of named phases (arrivals, loads, holds, integration with ground contact and
+// sleeping), frames at exact multiples of 1 / frame_rate, and finish into the Result.
+#include "sim/engine/run.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "sim/blast/reflection.hpp"
+#include "sim/engine/sleeping.hpp"
+
+namespace brisance::engine {
+
+namespace {
+
+// A sum of finite numbers is finite unless it overflows (beyond 1e308: no state of a body),
+// and a NaN or an infinity in any term makes it NaN or infinite: one test instead of thirteen.
+bool finite(const dynamics::BodyState& s) {
+  return std::isfinite(s.position.sum() + s.velocity.sum() + s.orientation.coeffs().sum() +
+                       s.angular_momentum.sum());
+}
+
+}  // namespace
+
+void Run::activate(const PanelEvent& event) {
+  const PanelModel& panel = model_.panels[event.panel];
+  const dynamics::BodyState& state = state_.bodies[panel.body];
+  const ChargeModel& charge = model_.charges[event.charge];
+  const Vec3 centre = state.position + state.orientation * panel.centre;
+  const Vec3 normal = state.orientation * panel.normal;
+  const Vec3 d = centre - charge.position;
+  const double distance = std::max(d.norm(), 1e-3);
+  const double cos_incidence = -normal.dot(d) / distance;
+  if (cos_incidence <= 0.0) return;  // turned away since the run began
+  const blast::BlastPoint point = blast::blast_point(charge.charge, distance);
+  const double angle = std::acos(std::min(1.0, cos_incidence));
+  const blast::ObliqueReflection reflection = blast::oblique_reflection(
+      point.incident_overpressure_pa, point.incident_impulse_pa_s, point.reflected_overpressure_pa,
+      point.reflected_impulse_pa_s, angle);
+  if (!point.in_validity_range)
+    warnings_.add("blast_out_of_range",
+                  "a panel lies outside the Kingery-Bulmash fitted range (Z 0.05-40 m/kg^(1/3)); "
+                  "its load is continued from the range's end (see docs/blast-model.md)");
+  if (!reflection.in_chart_range)
+    warnings_.add("reflection_out_of_chart",
+                  "a panel's incident overpressure lies outside the reflection chart "
+                  "(1.4 kPa - 34.5 MPa); the nearest chart curve was used");
+  blast::PanelWave wave;
+  wave.incident_overpressure_pa = point.incident_overpressure_pa;
+  wave.incident_impulse_pa_s = point.incident_impulse_pa_s;
+  wave.positive_duration_s = point.positive_duration_s;
+  wave.shock_velocity_m_s = point.shock_velocity_m_s;
+  wave.dynamic_pressure_pa = point.dynamic_pressure_pa;
+  wave.reflected_overpressure_pa = reflection.overpressure_pa;
+  wave.reflected_impulse_pa_s = reflection.impulse_pa_s;
+  wave.cos_incidence = cos_incidence;
+  blast::PanelLoadOptions options = model_.load_options;
+  options.clearing_distance_m = panel.clearing_distance_m;
+  options.drag_coefficient = model_.bodies[panel.body].drag_coefficient;
+  state_.active.push_back(
+      ActiveLoad{event.panel, event.arrival_time_s, blast::net_translatory_history(wave, options)});
+  state_.panel_loaded[event.panel] = 1;
+}
+
+void Run::apply_loads(double t0, double t1) {
+  const bool moments = model_.world.integrator == dynamics::Integrator::rk4;
+  std::size_t kept = 0;
+  state_.min_active_duration_s = INFINITY;
+  for (std::size_t i = 0; i < state_.active.size(); ++i) {
+    const ActiveLoad& load = state_.active[i];
+    const PanelModel& panel = model_.panels[load.panel];
+    const double a = t0 - load.arrival_time_s;
+    const double b = t1 - load.arrival_time_s;
+    const double impulse = load.history.impulse_pa_s(a, b) * panel.area_m2;
+    if (impulse != 0.0 && state_.motion[panel.body] != Motion::anchored) {
+      const dynamics::BodyState& state = state_.bodies[panel.body];
+      const Vec3 push = -(state.orientation * panel.normal);  // pressure acts inward
+      const Vec3 arm = state.orientation * panel.centre;
+      dynamics::StepLoads& body = state_.loads[panel.body];
+      body.impulse += impulse * push;
+      body.angular_impulse += model_.rotation_factor * arm.cross(impulse * push);
+      if (moments) body.impulse_moment += load.history.moment_pa_s2(a, b) * panel.area_m2 * push;
+      const double from = std::max(a, 0.0);
+      if (!state_.is_loaded[panel.body]) {
+        state_.is_loaded[panel.body] = 1;
+        state_.loaded_bodies.push_back(panel.body);
+        state_.peak_force_n[panel.body].setZero();
+        state_.loaded_from_s[panel.body] = t1;
+      }
+      state_.peak_force_n[panel.body] += load.history.pressure_pa(from) * panel.area_m2 * push;
+      state_.loaded_from_s[panel.body] =
+          std::min(state_.loaded_from_s[panel.body], load.arrival_time_s + from);
+    }
+    if (b < load.history.end_s()) {
+      state_.min_active_duration_s = std::min(state_.min_active_duration_s, load.history.end_s());
+      state_.active[kept++] = std::move(state_.active[i]);
+    }
+  }
+  state_.active.resize(kept);
+}
+
+void Run::release_held(double t0, double t1) {
+  for (std::uint32_t body : state_.loaded_bodies) {
+    if (state_.motion[body] == Motion::asleep) {
+      state_.motion[body] = Motion::awake;  // a later wave wakes a resting body
+      state_.rest_time_s[body] = 0.0;
+    }
+    const double hold = model_.hold_force_n[body];  // mu N, N
+    dynamics::StepLoads& loads = state_.loads[body];
+    if (state_.motion[body] == Motion::held) {
+      // A fragment breaks free once the wave has reached its centroid and its load beats its
+      // hold (thesis §6.7); the loads of its panels reached earlier are taken by the hold.
+      const double not_before = model_.release_not_before_s[body];
+      if (t1 < not_before || state_.peak_force_n[body].norm() <= hold) {
+        loads = dynamics::StepLoads{};  // static friction takes the whole load
+        continue;
+      }
+      state_.motion[body] = Motion::awake;
+      if (model_.fragment[body]) state_.release_time_s[body] = std::max(t0, not_before);
+    }
+    // Thesis eq. 2.40, M x'' + R = F(t) with R = mu N: while the wave pushes a body off its
+    // support, friction takes mu N of the push from the load's arrival on, so the body gains the
+    // integral of (F - mu N). The push keeps its lever arm, so torque scales the same way.
+    const double magnitude = loads.impulse.norm();
+    if (model_.supported[body] && magnitude > 0.0) {
+      const double resistance = hold * (t1 - state_.loaded_from_s[body]);
+      const double keep = std::max(0.0, magnitude - resistance) / magnitude;
+      loads.impulse *= keep;
+      loads.angular_impulse *= keep;
+      loads.impulse_moment *= keep;
+    }
+  }
+}
+
+void Run::integrate_awake(double dt) {
+  const bool may_sleep = model_.timing.sleep && model_.ground.has_value();
+  double max_angular_squared = 0.0;
+  std::uint64_t body_steps = 0;
+  state_.min_contact_time_s = INFINITY;
+  for (std::uint32_t b = 0; b < state_.bodies.size(); ++b) {
+    if (state_.motion[b] != Motion::awake) continue;
+    const dynamics::BodyModel& body = model_.bodies[b];
+    dynamics::BodyState& state = state_.bodies[b];
+    const dynamics::BodyState before = state;
+    // Most bodies carry no load: their step does not read state_.loads (72 bytes a body).
+    static const dynamics::StepLoads kNoLoads{};
+    const Vec3 omega = dynamics::integrate(
+        body, state, state_.is_loaded[b] ? state_.loads[b] : kNoLoads, model_.world, dt);
+    bool touching = false;
+    if (model_.ground)
+      touching = dynamics::resolve_ground_contact(body, state, *model_.ground, &state_.contacts[b]);
+    if (!finite(state)) {
+      state = before;
+      state_.motion[b] = Motion::asleep;
+      warnings_.add("non_finite_state",
+                    "a body's state became non-finite (NaN or infinity); it was frozen at its last "
+                    "finite state");
+      continue;
+    }
+    state_.moved[b] = 1;
+    ++body_steps;
+    if (!state_.is_loaded[b] && state_.launch_speed_m_s[b] < 0.0 && model_.fragment[b])
+      state_.launch_speed_m_s[b] = state.velocity.norm();
+    // Squared speeds, roots only where needed: the largest root is the root of the largest.
+    const double angular_squared = omega.squaredNorm();
+    if (!model_.ground) {
+      max_angular_squared = std::max(max_angular_squared, angular_squared);
+      continue;
+    }
+    const double speed = state.velocity.norm();
+    if (falls_asleep(may_sleep && touching, speed, angular_squared, dt, state_.rest_time_s[b])) {
+      state_.motion[b] = Motion::asleep;
+      state.velocity.setZero();
+      state.angular_momentum.setZero();
+      ++result_.stats.bodies_slept;
+      continue;
+    }
+    max_angular_squared = std::max(max_angular_squared, angular_squared);
+    // A body that can reach the ground within a coarse step must take steps of a fraction of
+    // its size, so contact is found before it sinks far in.
+    if (speed > 0.0) {
+      const double clearance =
+          state.position.y() - body.bounding_radius_m - model_.ground->height_m;
+      if (clearance < speed * 0.01)
+        state_.min_contact_time_s =
+            std::min(state_.min_contact_time_s, body.bounding_radius_m / speed);
+    }
+  }
+  result_.stats.body_steps += body_steps;
+  state_.max_angular_speed_rad_s = std::sqrt(max_angular_squared);
+  for (std::uint32_t b : state_.loaded_bodies) {
+    state_.loads[b] = dynamics::StepLoads{};
+    state_.is_loaded[b] = 0;
+  }
+  state_.loaded_bodies.clear();
+}
+
+double Run::next_step(double t, double until) const {
+  const Timing& sim = model_.timing;
+  if (sim.time_step_s) return std::min(*sim.time_step_s, until - t);
+  const bool busy = !state_.active.empty() || std::find(state_.motion.begin(), state_.motion.end(),
+                                                        Motion::awake) != state_.motion.end();
+  if (!busy) {
+    // Nothing moves: jump to the next frame or the next arrival.
+    double next = until;
+    if (state_.next_event < model_.events.size())
+      next = std::min(next, std::max(model_.events[state_.next_event].arrival_time_s, t + 1e-9));
+    return next - t;
+  }
+  // The adaptive step: a fraction sqrt(tolerance) of every time scale in play — at tolerance
+  // 1e-3, 3 % of the shortest active pulse, 0.06 rad of turn, a third of the time a body near
+  // the ground takes to cross its own size, and 9.5 ms at most.
+  const double fraction = std::sqrt(sim.tolerance);
+  double dt = std::min(1.0 / sim.frame_rate_hz, 0.3 * fraction);
+  if (state_.min_active_duration_s < INFINITY)
+    dt = std::min(dt, fraction * state_.min_active_duration_s);
+  if (state_.max_angular_speed_rad_s > 0.0)
+    dt = std::min(dt, 2.0 * fraction / state_.max_angular_speed_rad_s);
+  if (state_.min_contact_time_s < INFINITY)
+    dt = std::min(dt, 10.0 * fraction * state_.min_contact_time_s);
+  if (state_.next_event < model_.events.size() && state_.active.empty()) {
+    // Land the first step of a wave on its arrival.
+    const double arrival = model_.events[state_.next_event].arrival_time_s;
+    if (arrival > t) dt = std::min(dt, arrival - t);
+  }
+  return std::clamp(dt, std::min(1e-6, until - t), until - t);
+}
+
+void Run::record_frame() {
+  for (std::uint32_t body : state_.candidates)
+    state_.candidate_poses.push_back(origin_pose(model_, body, state_.bodies[body]));
+}
+
+void Run::init() {
+  const std::size_t bodies = model_.bodies.size();
+  state_.bodies = model_.initial_states;
+  state_.motion = model_.initial_motion;
+  state_.rest_time_s.assign(bodies, 0.0);
+  state_.contacts.assign(bodies, dynamics::ContactMemory{});
+  state_.moved.assign(bodies, 0);
+  state_.is_loaded.assign(bodies, 0);
+  state_.peak_force_n.assign(bodies, Vec3::Zero());
+  state_.loaded_from_s.assign(bodies, 0.0);
+  state_.loads.assign(bodies, dynamics::StepLoads{});
+  state_.release_time_s.assign(bodies, -1.0);
+  state_.launch_speed_m_s.assign(bodies, -1.0);
+  state_.panel_loaded.assign(model_.panels.size(), 0);
+  for (std::uint32_t b = 0; b < bodies; ++b)
+    if (state_.motion[b] != Motion::anchored) state_.candidates.push_back(b);
+
+  const Timing& sim = model_.timing;
+  state_.frame_count =
+      static_cast<std::size_t>(std::floor(sim.duration_s * sim.frame_rate_hz + 1e-9)) + 1;
+  result_.frame_times_s.reserve(state_.frame_count);
+  state_.candidate_poses.reserve(state_.frame_count * state_.candidates.size());
+  result_.frame_times_s.push_back(0.0);
+  record_frame();
+}
+
+// One step over [t0, t1], as named phases. Body-body contacts will be one more phase after
+// integrate_awake (which resolves ground contact body by body, in the same pass as the
+// integration, so the states are swept once).
+void Run::step(double t0, double t1) {
+  activate_arrivals(t1);
+  apply_loads(t0, t1);
+  release_held(t0, t1);
+  integrate_awake(t1 - t0);
+  ++result_.stats.steps;
+}
+
+void Run::activate_arrivals(double t1) {
+  while (state_.next_event < model_.events.size() &&
+         model_.events[state_.next_event].arrival_time_s < t1)
+    activate(model_.events[state_.next_event++]);
+}
+
+bool Run::quiet() const {
+  return state_.active.empty() && state_.next_event == model_.events.size() &&
+         std::find(state_.motion.begin(), state_.motion.end(), Motion::awake) ==
+             state_.motion.end();
+}
+
+bool Run::loop(const RunHooks& hooks) {
+  const Timing& sim = model_.timing;
+  const std::size_t frame_count = state_.frame_count;
+  double t = 0.0;
+  std::size_t frame = 1;
+  int progress_reported = 0;
+  while (t < sim.duration_s) {
+    if (hooks.cancel_requested && hooks.cancel_requested()) return false;
+    const double frame_time =
+        frame < frame_count ? static_cast<double>(frame) / sim.frame_rate_hz : sim.duration_s;
+    double dt = next_step(t, frame_time);
+    double t1 = t + dt;
+    if (frame_time - t1 <= 1e-12 * std::max(1.0, frame_time)) t1 = frame_time;
+    dt = t1 - t;
+    if (dt <= 0.0) break;
+
+    step(t, t1);
+    t = t1;
+
+    if (t == frame_time && frame < frame_count) {
+      result_.frame_times_s.push_back(frame_time);
+      record_frame();
+      ++frame;
+    }
+    if (hooks.progress) {
+      const int percent = static_cast<int>(200.0 * t / sim.duration_s);
+      if (percent > progress_reported) {
+        progress_reported = percent;
+        hooks.progress(std::min(1.0, t / sim.duration_s));
+      }
+    }
+    // Everything at rest and no wave still to come: the remaining frames are the same.
+    if (quiet() && t < sim.duration_s) {
+      result_.stats.ended_early = true;
+      for (; frame < frame_count; ++frame) {
+        result_.frame_times_s.push_back(static_cast<double>(frame) / sim.frame_rate_hz);
+        record_frame();
+      }
+      break;
+    }
+  }
+  result_.stats.simulated_time_s = t;
+  return true;
+}
+
+void Run::finish() {
+  const std::size_t bodies = model_.bodies.size();
+  // Frames keep only the bodies that moved; the others are stored once (DESIGN.md decision 10).
+  std::vector<std::size_t> kept;
+  for (std::size_t k = 0; k < state_.candidates.size(); ++k) {
+    if (state_.moved[state_.candidates[k]]) {
+      kept.push_back(k);
+      result_.animated.push_back(state_.candidates[k]);
+    }
+  }
+  result_.poses.reserve(result_.frame_times_s.size() * kept.size());
+  for (std::size_t f = 0; f < result_.frame_times_s.size(); ++f)
+    for (std::size_t k : kept)
+      result_.poses.push_back(state_.candidate_poses[f * state_.candidates.size() + k]);
+  result_.stats.bodies_static_in_frames = bodies - result_.animated.size();
+
+  for (std::size_t b = 0; b < bodies; ++b) {
+    FinalState final_state;
+    final_state.name = result_.bodies[b].name;
+    final_state.pose = origin_pose(model_, b, state_.bodies[b]);
+    const Vec3 v = state_.bodies[b].velocity;
+    const Vec3 w = dynamics::angular_velocity(model_.bodies[b], state_.bodies[b]);
+    final_state.linear_velocity_m_s = {v.x(), v.y(), v.z()};
+    final_state.angular_velocity_rad_s = {w.x(), w.y(), w.z()};
+    result_.final_state.push_back(std::move(final_state));
+    if (state_.motion[b] == Motion::held) ++result_.stats.bodies_never_released;
+  }
+  std::vector<std::uint8_t> pending(model_.panels.size(), 0);
+  for (std::size_t e = state_.next_event; e < model_.events.size(); ++e)
+    pending[model_.events[e].panel] = !state_.panel_loaded[model_.events[e].panel];
+  result_.stats.panels_not_reached =
+      static_cast<std::uint64_t>(std::count(pending.begin(), pending.end(), 1));
+  result_.stats.panels_loaded = static_cast<std::uint64_t>(
+      std::count(state_.panel_loaded.begin(), state_.panel_loaded.end(), 1));
+}
+
+bool Run::execute(const RunHooks& hooks) {
+  init();
+  if (!loop(hooks)) return false;
+  finish();
+  return true;
+}
+
+}  // namespace brisance::engine

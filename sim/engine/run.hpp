@@ -1,0 +1,90 @@
+// sim/engine/run (private to the engine): the stepping of one prepared Model. Everything that
+// changes while stepping lives in RunState (STYLE.md §1); Run reads the Model, writes the state,
+// and fills the Result: init, a loop of steps, finish. A step is a short list of named phases;
+// body-body contacts will be one more.
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+#include <vector>
+
+#include "sim/blast/panel_load.hpp"
+#include "sim/dynamics/ground_contact.hpp"
+#include "sim/dynamics/rigid_body.hpp"
+#include "sim/engine/model.hpp"
+#include "sim/engine/simulator.hpp"
+
+namespace brisance::engine {
+
+// A panel's wave while it acts on it.
+struct ActiveLoad {
+  std::uint32_t panel;
+  double arrival_time_s;
+  blast::PressureHistory history;  // net translatory pressure, Pa, time since arrival
+};
+
+// Everything that changes while stepping; per body in body order unless said otherwise.
+struct RunState {
+  std::vector<dynamics::BodyState> bodies;
+  std::vector<Motion> motion;
+  std::vector<double> rest_time_s;                // time at rest on the ground, s
+  std::vector<dynamics::ContactMemory> contacts;  // for warm-started ground contact
+  std::vector<std::uint8_t> moved;                // integrated at least once
+  std::vector<std::uint8_t> panel_loaded;         // per panel: a wave has reached it
+  std::vector<dynamics::StepLoads> loads;         // this step's, world frame
+  std::vector<std::uint32_t> loaded_bodies;       // bodies with nonzero loads this step
+  std::vector<std::uint8_t> is_loaded;
+  // Per loaded body this step: the sum of its panels' force vectors at their largest (the start
+  // of the step, or the wave's arrival within it: every pulse decays from its front), N, and
+  // the time from which any load acted, s. The hold is judged on these, so whether a body is
+  // released does not depend on the step size.
+  std::vector<Vec3> peak_force_n;
+  std::vector<double> loaded_from_s;
+  // Fragments: when each broke free and its speed once its blast load ended (launch), or -1.
+  std::vector<double> release_time_s;
+  std::vector<double> launch_speed_m_s;
+  std::vector<ActiveLoad> active;         // waves acting on panels
+  std::size_t next_event = 0;             // into Model::events
+  std::vector<std::uint32_t> candidates;  // bodies that may move (all but anchored)
+  std::vector<Pose> candidate_poses;      // frame-major over candidates
+  std::size_t frame_count = 0;
+  // Step-size limits gathered while integrating, used for the next step.
+  double max_angular_speed_rad_s = 0.0;
+  double min_contact_time_s = INFINITY;
+  double min_active_duration_s = INFINITY;
+};
+
+class Run {
+ public:
+  // `result.bodies` must already hold one entry per body (their names go into final states).
+  Run(const Model& model, Result& result, WarningLog& warnings)
+      : model_(model), result_(result), warnings_(warnings) {}
+
+  // False if cancelled (the result is then incomplete).
+  bool execute(const RunHooks& hooks);
+  const RunState& state() const { return state_; }
+
+ private:
+  void init();
+  bool loop(const RunHooks& hooks);
+  void finish();
+
+  // The step and its phases, in order.
+  void step(double t0, double t1);
+  void activate_arrivals(double t1);  // waves that reach their panels before t1 start acting
+  void apply_loads(double t0, double t1);
+  void release_held(double t0, double t1);
+  void integrate_awake(double dt);  // with ground contact and sleeping
+
+  void activate(const PanelEvent& event);
+  double next_step(double t, double until) const;
+  bool quiet() const;
+  void record_frame();
+
+  const Model& model_;
+  Result& result_;
+  WarningLog& warnings_;
+  RunState state_;
+};
+
+}  // namespace brisance::engine

@@ -78,13 +78,23 @@ json frame_to_json(const FrameSet& frames, std::size_t frame) {
               {"poses", std::move(poses)}};
 }
 
-// The frame's numbers go into one flat array, dumped once so each keeps nlohmann's exact
-// formatting, and the fixed keys are written around them in the order nlohmann dumps an object
-// (sorted by key); io_tests checks the text equals frame_to_json(...).dump().
-void write_frame_json(std::ostream& out, const FrameSet& frames, std::size_t frame) {
-  thread_local json numbers = json::array();
-  thread_local std::string text;
-  json::array_t& values = numbers.get_ref<json::array_t&>();
+namespace {
+
+// Writes frames as JSON text without building their DOM. The frame's numbers go into one flat
+// array, dumped once so each keeps nlohmann's exact formatting, and the fixed keys are written
+// around them in the order nlohmann dumps an object (sorted by key); io_tests checks the text
+// equals frame_to_json(...).dump(). The buffers are reused from frame to frame.
+class FrameJsonWriter {
+ public:
+  void write(std::ostream& out, const FrameSet& frames, std::size_t frame);
+
+ private:
+  json numbers_ = json::array();
+  std::string text_;
+};
+
+void FrameJsonWriter::write(std::ostream& out, const FrameSet& frames, std::size_t frame) {
+  json::array_t& values = numbers_.get_ref<json::array_t&>();
   values.clear();
   values.reserve(2 + 8 * frames.bodies.size());
   values.emplace_back(frames.first_frame + frame);
@@ -97,11 +107,11 @@ void write_frame_json(std::ostream& out, const FrameSet& frames, std::size_t fra
     for (const double coordinate : pose.position)
       values.emplace_back(coordinate);
   }
-  text = numbers.dump();  // "[i,t,b,qx,qy,qz,qw,x,y,z,b,...]"; no number contains a comma
+  text_ = numbers_.dump();  // "[i,t,b,qx,qy,qz,qw,x,y,z,b,...]"; no number contains a comma
   std::size_t at = 1;
   const auto next = [&]() {
-    const std::size_t end = std::min(text.find(',', at), text.size() - 1);
-    const std::string_view token(text.data() + at, end - at);
+    const std::size_t end = std::min(text_.find(',', at), text_.size() - 1);
+    const std::string_view token(text_.data() + at, end - at);
     at = end + 1;
     return token;
   };
@@ -121,11 +131,18 @@ void write_frame_json(std::ostream& out, const FrameSet& frames, std::size_t fra
   out << "],\"time\":" << time << '}';
 }
 
+}  // namespace
+
+void write_frame_json(std::ostream& out, const FrameSet& frames, std::size_t frame) {
+  FrameJsonWriter().write(out, frames, frame);
+}
+
 void write_frames_array(std::ostream& out, const FrameSet& frames) {
+  FrameJsonWriter writer;
   out << '[';
   for (std::size_t f = 0; f < frames.frame_count(); ++f) {
     if (f != 0) out << ',';
-    write_frame_json(out, frames, f);
+    writer.write(out, frames, f);
   }
   out << ']';
 }

@@ -10,6 +10,7 @@
 #include "cli/commands.hpp"
 #include "cli/text.hpp"
 #include "sim/engine/simulator.hpp"
+#include "sim/io/frames.hpp"
 #include "sim/io/gltf.hpp"
 #include "sim/io/result_json.hpp"
 #include "sim/scene/scene.hpp"
@@ -19,10 +20,11 @@ namespace brisance::cli {
 namespace {
 
 constexpr std::string_view kRunHelp =
-    "usage: brisance run SCENE.json -o OUT.glb|OUT.json [--progress]\n"
+    "usage: brisance run SCENE.json -o OUT.glb|OUT.json|OUT.brf [--progress]\n"
     "\n"
     "Simulates a scene and writes the result: binary glTF (.glb) with one animated node per\n"
-    "body, or JSON with bodies, frames, final states, stats and warnings.\n"
+    "body, JSON with bodies, frames, final states, stats and warnings, or the frames alone as\n"
+    "BRF1 binary frames (.brf; the bytes of GET /v1/jobs/{id}/frames as octet-stream).\n"
     "  -o, --output FILE   where to write; the extension picks the format\n"
     "  --progress          a progress bar on stderr (shown once a run takes over a second)\n";
 
@@ -91,17 +93,25 @@ class ProgressBar {
   std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
 };
 
+enum class Format { glb, json, brf };
+
 // Writes through a temporary file and a rename, so a failed run never leaves half a result.
-void write_output(const std::filesystem::path& path, bool glb, const engine::Result& result) {
+void write_output(const std::filesystem::path& path, Format format, const engine::Result& result) {
   std::filesystem::path temporary = path;
   temporary += ".partial";
   {
     std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
     if (!out) throw std::runtime_error("cannot write '" + temporary.string() + "'");
-    if (glb) {
-      io::write_glb(result, out);
-    } else {
-      io::write_result_json(result, out);
+    switch (format) {
+      case Format::glb:
+        io::write_glb(result, out);
+        break;
+      case Format::json:
+        io::write_result_json(result, out);
+        break;
+      case Format::brf:
+        io::write_brf1(io::frames_of(result), out);
+        break;
     }
     out.flush();
     if (!out) throw std::runtime_error("writing '" + temporary.string() + "' failed");
@@ -120,11 +130,17 @@ int run_simulation(const Args& args, std::ostream& out) {
   }
   const std::string_view scene_path = single_scene_path(flags);
   const auto output = flags.value("output");
-  if (!output) flags.fail("-o OUT.glb or -o OUT.json is required");
+  if (!output) flags.fail("-o OUT.glb, -o OUT.json or -o OUT.brf is required");
   const std::filesystem::path output_path{std::string(*output)};
   const std::string extension = output_path.extension().string();
-  if (extension != ".glb" && extension != ".json")
-    flags.fail("the output must end in .glb or .json, got '" + std::string(*output) + "'");
+  Format format = Format::json;
+  if (extension == ".glb") {
+    format = Format::glb;
+  } else if (extension == ".brf") {
+    format = Format::brf;
+  } else if (extension != ".json") {
+    flags.fail("the output must end in .glb, .json or .brf, got '" + std::string(*output) + "'");
+  }
   if (output_path.has_parent_path() && !std::filesystem::is_directory(output_path.parent_path()))
     flags.fail("the output folder '" + output_path.parent_path().string() + "' does not exist");
 
@@ -135,7 +151,7 @@ int run_simulation(const Args& args, std::ostream& out) {
   const engine::RunOutcome outcome = engine::simulate(scene, hooks);
   bar.finish();
   const engine::Result& result = outcome.result;
-  write_output(output_path, extension == ".glb", result);
+  write_output(output_path, format, result);
   const engine::Stats& s = result.stats;
   out << text::printf(
       "%s: %.3g s simulated in %.3g s (%llu steps); %llu bodies, %zu moved, %llu never "

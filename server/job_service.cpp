@@ -1,13 +1,15 @@
 #include "server/job_service.hpp"
 
 #include <algorithm>
+#include <cassert>
 #include <cmath>
 #include <random>
 
 #include <nlohmann/json.hpp>
 
 #include "server/sha256.hpp"
-#include "sim/io/result_json.hpp"
+#include "sim/io/gltf.hpp"
+#include "sim/io/result_codec.hpp"
 
 namespace brisance::server {
 
@@ -218,26 +220,74 @@ std::array<double, 7> pose7(const engine::Pose& pose) {
           pose.orientation[1], pose.orientation[2], pose.orientation[3]};
 }
 
-engine::Pose pose_from(const double* p) {
+// x y z qx qy qz qw, as stored, widened to double.
+template <typename Number>
+engine::Pose pose_from(const Number* p) {
   engine::Pose pose;
   pose.position = {p[0], p[1], p[2]};
   pose.orientation = {p[3], p[4], p[5], p[6]};
   return pose;
 }
 
-std::array<double, 3> vec3_from(const json& j) {
-  return {j.at(0).get<double>(), j.at(1).get<double>(), j.at(2).get<double>()};
+// The pose rounded to float32, as the stored frames hold poses.
+engine::Pose rounded_to_float(const engine::Pose& pose) {
+  engine::Pose rounded;
+  for (std::size_t c = 0; c < 3; ++c)
+    rounded.position[c] = static_cast<float>(pose.position[c]);
+  for (std::size_t c = 0; c < 4; ++c)
+    rounded.orientation[c] = static_cast<float>(pose.orientation[c]);
+  return rounded;
+}
+
+engine::BodyInfo body_info(const StoredBody& stored) {
+  engine::BodyInfo info;
+  info.name = stored.name;
+  info.mass_kg = stored.mass_kg;
+  info.initial_pose = pose_from(stored.initial_pose.data());
+  info.mesh.vertices.reserve(stored.vertices.size() / 3);
+  for (std::size_t v = 0; v + 2 < stored.vertices.size(); v += 3)
+    info.mesh.vertices.emplace_back(stored.vertices[v], stored.vertices[v + 1],
+                                    stored.vertices[v + 2]);
+  info.mesh.triangles.reserve(stored.triangles.size() / 3);
+  for (std::size_t t = 0; t + 2 < stored.triangles.size(); t += 3)
+    info.mesh.triangles.push_back(
+        {stored.triangles[t], stored.triangles[t + 1], stored.triangles[t + 2]});
+  return info;
+}
+
+// Every stored frame of the animated bodies, quaternions renormalised (float32 rounding leaves
+// |q| a few ulp off 1): the animation the glb carries.
+io::FrameSet animation_frames(std::vector<StoredFrame> stored,
+                              const std::vector<std::uint32_t>& animated) {
+  io::FrameSet frames;
+  frames.bodies = animated;
+  frames.times_s.reserve(stored.size());
+  frames.poses.reserve(stored.size() * animated.size());
+  for (const StoredFrame& frame : stored) {
+    frames.times_s.push_back(frame.time_s);
+    for (std::size_t k = 0; k < animated.size(); ++k) {
+      assert(7 * k + 7 <= frame.poses.size());
+      engine::Pose pose = pose_from(frame.poses.data() + 7 * k);
+      double norm = 0.0;
+      for (const double q : pose.orientation)
+        norm += q * q;
+      norm = std::sqrt(norm);
+      if (norm > 0.0) {
+        for (double& q : pose.orientation)
+          q /= norm;
+      }
+      frames.poses.push_back(pose);
+    }
+  }
+  return frames;
 }
 
 }  // namespace
 
 StoredResult to_stored_result(const engine::Result& result) {
   StoredResult stored;
-  std::vector<bool> animated(result.bodies.size(), false);
-  for (std::uint32_t index : result.animated)
-    animated[index] = true;
-
-  json bodies = json::array();
+  const std::vector<bool> animated = io::animated_flags(result.bodies.size(), result.animated);
+  stored.bodies.reserve(result.bodies.size());
   for (std::size_t i = 0; i < result.bodies.size(); ++i) {
     const engine::BodyInfo& info = result.bodies[i];
     StoredBody body;
@@ -254,16 +304,6 @@ StoredResult to_stored_result(const engine::Result& result) {
     for (const auto& t : info.mesh.triangles)
       body.triangles.insert(body.triangles.end(), t.begin(), t.end());
     stored.bodies.push_back(std::move(body));
-    bodies.push_back(
-        json{{"index", i},
-             {"name", info.name},
-             {"mass", info.mass_kg},
-             {"animated", animated[i]},
-             {"position", json::array({info.initial_pose.position[0], info.initial_pose.position[1],
-                                       info.initial_pose.position[2]})},
-             {"orientation",
-              json::array({info.initial_pose.orientation[0], info.initial_pose.orientation[1],
-                           info.initial_pose.orientation[2], info.initial_pose.orientation[3]})}});
   }
 
   const std::size_t n = result.animated.size();
@@ -279,78 +319,90 @@ StoredResult to_stored_result(const engine::Result& result) {
     stored.frames.push_back(std::move(frame));
   }
 
-  json final_state = json::array();
-  for (const auto& state : result.final_state)
-    final_state.push_back(io::final_state_to_json(state));
-  json warnings = json::array();
-  for (const auto& warning : result.warnings)
-    warnings.push_back(io::warning_to_json(warning));
-  const json stats = io::stats_to_json(result.stats);
-  const double duration = result.frame_times_s.empty() ? 0.0 : result.frame_times_s.back();
-  json summary{{"bodies", std::move(bodies)},
-               {"animated", result.animated},
-               {"frame_count", result.frame_times_s.size()},
-               {"duration", duration},
-               {"frame_times", result.frame_times_s},
-               {"final_state", std::move(final_state)},
-               {"stats", stats},
-               {"warnings", std::move(warnings)},
-               {"fracture", io::fracture_to_json(result.fracture)}};
-  stored.stats_json = stats.dump();
+  const json summary = io::result_summary(result);
+  stored.stats_json = summary.at("stats").dump();
   stored.summary_json = summary.dump();
   return stored;
 }
 
-std::optional<engine::Result> JobService::stored_result(std::string_view id) {
-  auto summary_text = storage_.result_summary(id);
+std::optional<ResultLayout> JobService::result_layout(std::string_view id) {
+  const std::optional<std::string> summary_text = storage_.result_summary(id);
   if (!summary_text) return std::nullopt;
   const json summary = json::parse(*summary_text);
-  engine::Result result;
-  for (StoredBody& b : storage_.result_bodies(id)) {
-    engine::BodyInfo info;
-    info.name = std::move(b.name);
-    info.mass_kg = b.mass_kg;
-    info.initial_pose = pose_from(b.initial_pose.data());
-    for (std::size_t v = 0; v + 2 < b.vertices.size(); v += 3) {
-      info.mesh.vertices.emplace_back(b.vertices[v], b.vertices[v + 1], b.vertices[v + 2]);
-    }
-    for (std::size_t t = 0; t + 2 < b.triangles.size(); t += 3) {
-      info.mesh.triangles.push_back({b.triangles[t], b.triangles[t + 1], b.triangles[t + 2]});
-    }
-    result.bodies.push_back(std::move(info));
+  ResultLayout layout;
+  layout.frame_count = summary.at("frame_count").get<std::int64_t>();
+  layout.animated = summary.at("animated").get<std::vector<std::uint32_t>>();
+  for (const json& body : summary.at("bodies")) {
+    engine::Pose pose;
+    pose.position = body.at("position").get<std::array<double, 3>>();
+    pose.orientation = body.at("orientation").get<std::array<double, 4>>();
+    layout.initial_poses.push_back(pose);
   }
-  result.animated = summary.at("animated").get<std::vector<std::uint32_t>>();
-  for (StoredFrame& frame : storage_.result_frames(id, 0, INT64_MAX)) {
-    result.frame_times_s.push_back(frame.time_s);
-    std::array<double, 7> p{};
-    for (std::size_t k = 0; k + 6 < frame.poses.size(); k += 7) {
-      for (std::size_t c = 0; c < 7; ++c)
-        p[c] = frame.poses[k + c];
-      engine::Pose pose = pose_from(p.data());
-      // Renormalise: float32 rounding leaves |q| a few ulp off 1.
-      double norm = 0.0;
-      for (double q : pose.orientation)
-        norm += q * q;
-      norm = std::sqrt(norm);
-      if (norm > 0.0) {
-        for (double& q : pose.orientation)
-          q /= norm;
+  return layout;
+}
+
+io::FrameSet JobService::result_frame_set(std::string_view id, const ResultLayout& layout,
+                                          std::int64_t from, std::int64_t to,
+                                          const std::vector<std::uint32_t>& bodies) {
+  assert(0 <= from && from <= to);
+  // Where each requested body's pose sits in a stored frame: its animated slot, or none.
+  std::vector<std::int64_t> slot(layout.body_count(), -1);
+  for (std::size_t k = 0; k < layout.animated.size(); ++k)
+    slot[layout.animated[k]] = static_cast<std::int64_t>(k);
+  io::FrameSet frames;
+  frames.first_frame = static_cast<std::uint64_t>(from);
+  frames.bodies = bodies;
+  const std::vector<StoredFrame> stored = storage_.result_frames(id, from, to);
+  frames.times_s.reserve(stored.size());
+  frames.poses.reserve(stored.size() * bodies.size());
+  for (const StoredFrame& frame : stored) {
+    frames.times_s.push_back(frame.time_s);
+    for (const std::uint32_t body : bodies) {
+      assert(body < layout.body_count());
+      const std::size_t base = 7 * static_cast<std::size_t>(std::max<std::int64_t>(slot[body], 0));
+      if (slot[body] >= 0 && base + 7 <= frame.poses.size()) {
+        frames.poses.push_back(pose_from(frame.poses.data() + base));
+      } else {
+        frames.poses.push_back(rounded_to_float(layout.initial_poses[body]));
       }
-      result.poses.push_back(pose);
     }
   }
-  for (const json& state : summary.at("final_state")) {
-    engine::FinalState fs;
-    fs.name = state.at("name").get<std::string>();
-    const auto position = vec3_from(state.at("position"));
-    fs.pose.position = position;
-    const json& q = state.at("orientation");
-    fs.pose.orientation = {q.at(0).get<double>(), q.at(1).get<double>(), q.at(2).get<double>(),
-                           q.at(3).get<double>()};
-    fs.linear_velocity_m_s = vec3_from(state.at("linear_velocity"));
-    fs.angular_velocity_rad_s = vec3_from(state.at("angular_velocity"));
-    result.final_state.push_back(std::move(fs));
+  return frames;
+}
+
+std::string JobService::result_meshes_json(std::string_view id) {
+  const std::vector<StoredBody> stored = storage_.result_bodies(id);
+  std::vector<engine::BodyInfo> bodies;
+  std::vector<bool> animated;
+  bodies.reserve(stored.size());
+  for (const StoredBody& body : stored) {
+    bodies.push_back(body_info(body));
+    animated.push_back(body.animated);
   }
+  return io::meshes_document_json(bodies, animated);
+}
+
+std::optional<std::vector<std::uint8_t>> JobService::result_glb(std::string_view id) {
+  const std::optional<ResultLayout> layout = result_layout(id);
+  if (!layout) return std::nullopt;
+  std::vector<engine::BodyInfo> bodies;
+  for (const StoredBody& body : storage_.result_bodies(id))
+    bodies.push_back(body_info(body));
+  return io::to_glb(bodies,
+                    animation_frames(storage_.result_frames(id, 0, INT64_MAX), layout->animated));
+}
+
+std::optional<engine::Result> JobService::stored_result(std::string_view id) {
+  const std::optional<ResultLayout> layout = result_layout(id);
+  if (!layout) return std::nullopt;
+  engine::Result result;
+  for (const StoredBody& body : storage_.result_bodies(id))
+    result.bodies.push_back(body_info(body));
+  io::FrameSet frames =
+      animation_frames(storage_.result_frames(id, 0, INT64_MAX), layout->animated);
+  result.animated = std::move(frames.bodies);
+  result.frame_times_s = std::move(frames.times_s);
+  result.poses = std::move(frames.poses);
   return result;
 }
 

@@ -17,6 +17,7 @@
 
 #include "server/storage.hpp"
 #include "sim/engine/result.hpp"
+#include "sim/io/frames.hpp"
 #include "sim/scene/scene.hpp"
 
 namespace brisance::server {
@@ -42,6 +43,16 @@ class ChangeNotifier {
   std::mutex mutex_;
   std::uint64_t next_token_ = 1;
   std::multimap<std::string, std::pair<std::uint64_t, Callback>> waiters_;
+};
+
+// The shape of a stored result, read from its summary: enough to validate frame requests and to
+// place the bodies that are not in the stored frames.
+struct ResultLayout {
+  std::int64_t frame_count = 0;
+  std::vector<std::uint32_t> animated;      // body index of each stored pose slot
+  std::vector<engine::Pose> initial_poses;  // one per body, as in the summary
+
+  std::size_t body_count() const { return initial_poses.size(); }
 };
 
 struct SubmitRequest {
@@ -81,7 +92,28 @@ class JobService {
     return storage_.result_frames(id, from, to);
   }
   // The stored result rebuilt for the glTF writer (poses at the stored float32 precision).
+  // Deprecated: the stored result as an engine::Result for io::result_to_glb (bodies, animated,
+  // frames only). Only the result.glb handler of server/api.cpp calls it; once it calls
+  // result_glb instead, delete this.
   std::optional<engine::Result> stored_result(std::string_view id);
+
+  // The result forms of the HTTP API, built from the stored rows and encoded by sim/io (the
+  // CLI's codec), so `brisance run` and the API give one shape.
+  //
+  // What the frames handler checks its parameters against (from the stored summary); nullopt
+  // when the job has no result.
+  std::optional<ResultLayout> result_layout(std::string_view id);
+  // Frames [from, to) of `bodies` as stored: poses of animated bodies as their float32 rows,
+  // bodies that do not move at their initial pose rounded to float32 (api/openapi.yaml). Needs
+  // 0 <= from <= to and every body below layout.body_count(). Encode with
+  // io::frames_document_json(set, layout.frame_count) or io::frames_to_brf1(set).
+  io::FrameSet result_frame_set(std::string_view id, const ResultLayout& layout, std::int64_t from,
+                                std::int64_t to, const std::vector<std::uint32_t>& bodies);
+  // The body of GET /v1/jobs/{id}/meshes ({"bodies": []} without a result).
+  std::string result_meshes_json(std::string_view id);
+  // The body of GET /v1/jobs/{id}/result.glb: the stored meshes and float32 frames (quaternions
+  // renormalised) through io::to_glb; nullopt when the job has no result.
+  std::optional<std::vector<std::uint8_t>> result_glb(std::string_view id);
 
   QueueCounts queue_counts() { return storage_.queue_counts(now_ms()); }
   bool database_ok() { return storage_.ping(); }
@@ -113,8 +145,9 @@ class JobService {
   std::chrono::steady_clock::time_point queued_checked_{};
 };
 
-// engine::Result → what storage keeps: summary JSON (bodies without meshes, frame times count,
-// final state, stats, warnings), meshes once per body, float32 frames.
+// engine::Result → what storage keeps: the summary JSON of io::result_summary (bodies without
+// meshes, frame count and times, final state, stats, warnings, fracture), meshes once per body,
+// float32 frames.
 StoredResult to_stored_result(const engine::Result& result);
 
 // A random job id: "j" and 24 hex digits.

@@ -110,7 +110,7 @@ class GlbBuilder {
 
   // The "blast" animation: a translation and a rotation channel per animated body, LINEAR,
   // sampled at the frame times. Needs at least one animated body and two frames.
-  void add_animation(const engine::Result& result);
+  void add_animation(const FrameSet& frames);
 
   std::vector<std::uint8_t> finish(json nodes, std::size_t node_count);
 
@@ -219,23 +219,23 @@ std::size_t GlbBuilder::add_times_accessor(const std::vector<double>& times_s) {
                        json::array({first}), json::array({previous})});
 }
 
-void GlbBuilder::add_animation(const engine::Result& result) {
-  const std::size_t frame_count = result.frame_times_s.size();
-  assert(!result.animated.empty() && frame_count >= 2);
-  const std::size_t times_accessor = add_times_accessor(result.frame_times_s);
+void GlbBuilder::add_animation(const FrameSet& frames) {
+  const std::size_t frame_count = frames.frame_count();
+  assert(!frames.bodies.empty() && frame_count >= 2);
+  const std::size_t times_accessor = add_times_accessor(frames.times_s);
 
   std::vector<std::uint8_t>& translations = view(View::kTranslations).bytes;
   std::vector<std::uint8_t>& rotations = view(View::kRotations).bytes;
   json samplers = json::array();
   json channels = json::array();
-  for (std::size_t k = 0; k < result.animated.size(); ++k) {
+  for (std::size_t k = 0; k < frames.bodies.size(); ++k) {
     const std::size_t translation_accessor = add_accessor(
         {View::kTranslations, translations.size(), kComponentFloat, frame_count, "VEC3", {}, {}});
     const std::size_t rotation_accessor = add_accessor(
         {View::kRotations, rotations.size(), kComponentFloat, frame_count, "VEC4", {}, {}});
     std::array<double, 4> previous{0.0, 0.0, 0.0, 1.0};
     for (std::size_t f = 0; f < frame_count; ++f) {
-      const engine::Pose& pose = result.pose(f, k);
+      const engine::Pose& pose = frames.pose(f, k);
       for (const double coordinate : pose.position)
         append_f32(translations, static_cast<float>(coordinate));
       // q and -q are the same rotation, but LINEAR (slerp) interpolation between samples of
@@ -255,7 +255,7 @@ void GlbBuilder::add_animation(const engine::Result& result) {
         append_f32(rotations, static_cast<float>(component));
       previous = q;
     }
-    const std::uint32_t node = result.animated[k];
+    const std::uint32_t node = frames.bodies[k];
     samplers.push_back(
         {{"input", times_accessor}, {"output", translation_accessor}, {"interpolation", "LINEAR"}});
     channels.push_back(
@@ -369,14 +369,14 @@ std::array<double, 4> normalized(const std::array<double, 4>& q) {
 
 }  // namespace
 
-std::vector<std::uint8_t> result_to_glb(const engine::Result& result) {
-  assert(result.poses.size() == result.frame_times_s.size() * result.animated.size());
+std::vector<std::uint8_t> to_glb(std::span<const engine::BodyInfo> bodies, const FrameSet& frames) {
+  assert(frames.poses.size() == frames.frame_count() * frames.bodies.size());
 #ifndef NDEBUG
   {
     // Two channels on one node and path would be invalid glTF.
-    std::vector<bool> seen(result.bodies.size(), false);
-    for (const std::uint32_t index : result.animated) {
-      assert(index < result.bodies.size() && !seen[index]);
+    std::vector<bool> seen(bodies.size(), false);
+    for (const std::uint32_t index : frames.bodies) {
+      assert(index < bodies.size() && !seen[index]);
       seen[index] = true;
     }
   }
@@ -385,15 +385,19 @@ std::vector<std::uint8_t> result_to_glb(const engine::Result& result) {
   GlbBuilder builder;
   // One node per body, node i for body i, placed at the body's initial pose.
   json nodes = json::array();
-  for (const engine::BodyInfo& body : result.bodies) {
+  for (const engine::BodyInfo& body : bodies) {
     json node = {{"name", body.name},
                  {"translation", body.initial_pose.position},
                  {"rotation", normalized(body.initial_pose.orientation)}};
     if (const std::optional<std::size_t> mesh = builder.add_mesh(body)) node["mesh"] = *mesh;
     nodes.push_back(std::move(node));
   }
-  if (!result.animated.empty() && result.frame_times_s.size() >= 2) builder.add_animation(result);
-  return builder.finish(std::move(nodes), result.bodies.size());
+  if (!frames.bodies.empty() && frames.frame_count() >= 2) builder.add_animation(frames);
+  return builder.finish(std::move(nodes), bodies.size());
+}
+
+std::vector<std::uint8_t> result_to_glb(const engine::Result& result) {
+  return to_glb(result.bodies, frames_of(result));
 }
 
 void write_glb(const engine::Result& result, std::ostream& out) {

@@ -6,12 +6,18 @@
 
 #include <cstdint>
 #include <iosfwd>
+#include <span>
 #include <vector>
 
 #include "sim/engine/result.hpp"
+#include "sim/io/frames.hpp"
 
 namespace brisance::io {
 
+// The glb of `bodies` (node i for body i) animated by `frames` (a channel pair per slot, in slot
+// order). The CLI passes frames_of(result); the service its stored bodies and float32 frames.
+std::vector<std::uint8_t> to_glb(std::span<const engine::BodyInfo> bodies, const FrameSet& frames);
+// to_glb(result.bodies, frames_of(result)).
 std::vector<std::uint8_t> result_to_glb(const engine::Result& result);
 void write_glb(const engine::Result& result, std::ostream& out);
 

@@ -1,14 +1,14 @@
 #include "sim/io/result_json.hpp"
 
-#include <algorithm>
 #include <cassert>
 #include <cstddef>
 #include <ostream>
 #include <string>
-#include <string_view>
 #include <vector>
 
 #include <nlohmann/json.hpp>
+
+#include "sim/io/frames.hpp"
 
 namespace brisance::io {
 
@@ -46,19 +46,6 @@ json body_to_json(const engine::BodyInfo& body, bool animated) {
               {"orientation", quat_to_json(body.initial_pose.orientation)}};
 }
 
-// One entry of "frames": its time and the pose of every animated body, by body index.
-json frame_to_json(const engine::Result& result, std::size_t frame) {
-  json bodies = json::array();
-  bodies.get_ref<json::array_t&>().reserve(result.animated.size());
-  for (std::size_t k = 0; k < result.animated.size(); ++k) {
-    const engine::Pose& pose = result.pose(frame, k);
-    bodies.push_back(json{{"index", result.animated[k]},
-                          {"position", vec3_to_json(pose.position)},
-                          {"orientation", quat_to_json(pose.orientation)}});
-  }
-  return json{{"time", result.frame_times_s[frame]}, {"bodies", std::move(bodies)}};
-}
-
 // animated_flags[i] is true when body i is in result.animated: one pass, not a search per body.
 std::vector<bool> animated_flags(const engine::Result& result) {
   std::vector<bool> flags(result.bodies.size(), false);
@@ -79,47 +66,6 @@ void stream_array(std::ostream& out, std::size_t count, ElementToJson&& element_
     out << element_to_json(i).dump();
   }
   out << ']';
-}
-
-// Writes frame_to_json(result, frame).dump() without building its DOM: the frames are nearly all
-// of a large result (10 000 bodies x 60 frames is 600 000 poses), and one small map-based object
-// per pose costs several allocations. The frame's numbers go into one flat array, dumped once so
-// each keeps nlohmann's exact formatting, and the fixed keys are written around them in the
-// order nlohmann dumps an object (sorted by key).
-void write_frame(std::ostream& out, const engine::Result& result, std::size_t frame, json& numbers,
-                 std::string& text) {
-  json::array_t& values = numbers.get_ref<json::array_t&>();
-  values.clear();
-  values.emplace_back(result.frame_times_s[frame]);
-  for (std::size_t k = 0; k < result.animated.size(); ++k) {
-    const engine::Pose& pose = result.pose(frame, k);
-    values.emplace_back(result.animated[k]);
-    for (const double component : pose.orientation)
-      values.emplace_back(component);
-    for (const double coordinate : pose.position)
-      values.emplace_back(coordinate);
-  }
-  text = numbers.dump();  // "[t,i,qx,qy,qz,qw,x,y,z,i,...]"; no number contains a comma
-  std::size_t at = 1;
-  const auto next = [&]() {
-    const std::size_t end = std::min(text.find(',', at), text.size() - 1);
-    const std::string_view token(text.data() + at, end - at);
-    at = end + 1;
-    return token;
-  };
-  const std::string_view time = next();
-  out << "{\"bodies\":[";
-  for (std::size_t k = 0; k < result.animated.size(); ++k) {
-    if (k != 0) out << ',';
-    out << "{\"index\":" << next() << ",\"orientation\":[" << next();
-    for (int c = 1; c < 4; ++c)
-      out << ',' << next();
-    out << "],\"position\":[" << next();
-    for (int c = 1; c < 3; ++c)
-      out << ',' << next();
-    out << "]}";
-  }
-  out << "],\"time\":" << time << '}';
 }
 
 }  // namespace
@@ -212,9 +158,10 @@ json result_to_json(const engine::Result& result) {
   json bodies = json::array();
   for (std::size_t i = 0; i < result.bodies.size(); ++i)
     bodies.push_back(body_to_json(result.bodies[i], animated[i]));
+  const FrameSet frame_set = frames_of(result);
   json frames = json::array();
-  for (std::size_t f = 0; f < result.frame_times_s.size(); ++f)
-    frames.push_back(frame_to_json(result, f));
+  for (std::size_t f = 0; f < frame_set.frame_count(); ++f)
+    frames.push_back(frame_to_json(frame_set, f));
   json final_state = json::array();
   for (const engine::FinalState& state : result.final_state)
     final_state.push_back(final_state_to_json(state));
@@ -244,15 +191,8 @@ void write_result_json(const engine::Result& result, std::ostream& out) {
   stream_array(out, result.final_state.size(),
                [&](std::size_t i) { return final_state_to_json(result.final_state[i]); });
   out << ",\"fracture\":" << fracture_to_json(result.fracture).dump();
-  out << ",\"frames\":[";
-  json numbers = json::array();
-  numbers.get_ref<json::array_t&>().reserve(1 + 8 * result.animated.size());
-  std::string text;
-  for (std::size_t f = 0; f < result.frame_times_s.size(); ++f) {
-    if (f != 0) out << ',';
-    write_frame(out, result, f, numbers, text);
-  }
-  out << ']';
+  out << ",\"frames\":";
+  write_frames_array(out, frames_of(result));
   out << ",\"stats\":" << stats_to_json(result.stats).dump();
   out << ",\"warnings\":";
   stream_array(out, result.warnings.size(),

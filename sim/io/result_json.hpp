@@ -3,14 +3,14 @@
 // {
 //   "bodies": [{"name", "mass", "mesh": {"vertices": [[x,y,z],...], "triangles": [[a,b,c],...]},
 //               "animated": bool, "position": [x,y,z], "orientation": [x,y,z,w]}],
-//   "frames": [{"time": t, "bodies": [{"index": i, "position": [..], "orientation": [..]}]}],
-//   "final_state": [{"name", "position", "orientation", "linear_velocity", "angular_velocity"}],
-//   "fracture": [{"name", "broken", "peak_pressure_pa", "stress_pa", ..., "release_times_s"}],
-//   "stats": {...every Stats field...},
-//   "warnings": [{"code", "message", "count"}]
+//   "frames": [{"index": f, "time": t, "poses": [{"body": i, "position": [..], "orientation":
+//   [..]}]}], "final_state": [{"name", "position", "orientation", "linear_velocity",
+//   "angular_velocity"}], "fracture": [{"name", "broken", "peak_pressure_pa", "stress_pa", ...,
+//   "release_times_s"}], "stats": {...every Stats field...}, "warnings": [{"code", "message",
+//   "count"}]
 // }
 // Static bodies appear once (their position/orientation in "bodies"); frames list only the
-// animated ones by body index.
+// animated ones by body index, in the one frame shape of sim/io/frames (the HTTP API's too).
 #pragma once
 
 #include <iosfwd>

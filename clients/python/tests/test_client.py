@@ -283,6 +283,43 @@ class JobsTest(ServerTestCase):
         self.assertEqual([f[2] for f in empty], [{}, {}, {}])
         self.assertEqual(list(self.client.frames(job, 5, 5)), [])
 
+    def test_brisance_run_writes_the_frames_the_server_serves(self) -> None:
+        """One frame shape: `brisance run -o OUT.brf` holds the served BRF1 bytes, and the
+        frames of `-o OUT.json` are the served JSON frames before float32 rounding."""
+        import struct
+        job = self.submit_and_wait()
+        served_brf = self.client.request("GET", "/v1/jobs/%s/frames" % job.id,
+                                         accept="application/octet-stream").body
+        served = self.client.request("GET", "/v1/jobs/%s/frames" % job.id).json()["frames"]
+        with tempfile.TemporaryDirectory() as folder:
+            scene = os.path.join(folder, "scene.json")
+            with open(scene, "w", encoding="utf-8") as handle:
+                json.dump(THREE_BLOCKS, handle)
+            outputs = {}
+            for extension in ("brf", "json"):
+                outputs[extension] = os.path.join(folder, "out." + extension)
+                subprocess.run([BINARY, "run", scene, "-o", outputs[extension]], check=True,
+                               stdout=subprocess.DEVNULL, timeout=60)
+            with open(outputs["brf"], "rb") as handle:
+                self.assertEqual(handle.read(), served_brf)
+            with open(outputs["json"], encoding="utf-8") as handle:
+                local = json.load(handle)["frames"]
+
+        def float32(x: float) -> float:
+            return struct.unpack("<f", struct.pack("<f", x))[0]
+
+        self.assertEqual(len(local), 61)
+        self.assertEqual(len(local), len(served))
+        for mine, theirs in zip(local, served):
+            self.assertEqual(sorted(mine), ["index", "poses", "time"])
+            self.assertEqual((mine["index"], mine["time"]), (theirs["index"], theirs["time"]))
+            self.assertEqual([p["body"] for p in mine["poses"]],
+                             [p["body"] for p in theirs["poses"]])
+            for p, q in zip(mine["poses"], theirs["poses"]):
+                self.assertEqual(sorted(p), ["body", "orientation", "position"])
+                for key in ("position", "orientation"):
+                    self.assertEqual([float32(x) for x in p[key]], q[key])
+
     def test_frames_out_of_range_is_invalid_parameter(self) -> None:
         job = self.submit_and_wait()
         with self.assertRaises(ProblemError) as caught:

@@ -868,6 +868,10 @@ export interface components {
             position: components["schemas"]["Vec3"];
             orientation: components["schemas"]["Quaternion"];
         };
+        /**
+         * @description One frame: its index in the whole run, its time and one pose per listed body. The one
+         *     frame shape: `brisance run -o OUT.json` writes its `frames` in it too.
+         */
         Frame: {
             index: number;
             /** @description s */

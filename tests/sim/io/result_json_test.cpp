@@ -172,12 +172,14 @@ TEST(ResultJson, FramesListOnlyTheAnimatedBodiesByIndex) {
   for (std::size_t f = 0; f < 3; ++f) {
     SCOPED_TRACE(f);
     const json& frame = j["frames"][f];
+    EXPECT_EQ(frame.size(), 3u) << frame.dump();
+    EXPECT_EQ(frame["index"].get<std::size_t>(), f);
     EXPECT_EQ(frame["time"].get<double>(), result.frame_times_s[f]);
-    ASSERT_EQ(frame["bodies"].size(), 2u);
+    ASSERT_EQ(frame["poses"].size(), 2u);
     for (std::size_t k = 0; k < 2; ++k) {
-      const json& entry = frame["bodies"][k];
+      const json& entry = frame["poses"][k];
       EXPECT_EQ(entry.size(), 3u) << entry.dump();
-      EXPECT_EQ(entry["index"].get<std::uint32_t>(), result.animated[k]);
+      EXPECT_EQ(entry["body"].get<std::uint32_t>(), result.animated[k]);
       expect_vec3(entry["position"], pose_at(f, k).position);
       expect_quat(entry["orientation"], pose_at(f, k).orientation);
     }
@@ -319,11 +321,11 @@ TEST(ResultJson, TenThousandBodiesBySixtyFramesStream) {
   EXPECT_EQ(text.back(), '\n');
   // Every pose appears once, and the last one is the last frame's last body.
   std::size_t entries = 0;
-  for (std::size_t at = text.find("\"index\":"); at != std::string::npos;
-       at = text.find("\"index\":", at + 1))
+  for (std::size_t at = text.find("{\"body\":"); at != std::string::npos;
+       at = text.find("{\"body\":", at + 1))
     ++entries;
   EXPECT_EQ(entries, kBodies * kFrames);
-  const std::string last_pose = "{\"index\":9999,\"orientation\":[0.0,0.0,0.0,1.0],\"position\":[" +
+  const std::string last_pose = "{\"body\":9999,\"orientation\":[0.0,0.0,0.0,1.0],\"position\":[" +
                                 json(static_cast<double>(kBodies * kFrames - 1)).dump() +
                                 ",0.0,0.0]}],\"time\":";
   EXPECT_NE(text.find(last_pose), std::string::npos);

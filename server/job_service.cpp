@@ -392,18 +392,4 @@ std::optional<std::vector<std::uint8_t>> JobService::result_glb(std::string_view
                     animation_frames(storage_.result_frames(id, 0, INT64_MAX), layout->animated));
 }
 
-std::optional<engine::Result> JobService::stored_result(std::string_view id) {
-  const std::optional<ResultLayout> layout = result_layout(id);
-  if (!layout) return std::nullopt;
-  engine::Result result;
-  for (const StoredBody& body : storage_.result_bodies(id))
-    result.bodies.push_back(body_info(body));
-  io::FrameSet frames =
-      animation_frames(storage_.result_frames(id, 0, INT64_MAX), layout->animated);
-  result.animated = std::move(frames.bodies);
-  result.frame_times_s = std::move(frames.times_s);
-  result.poses = std::move(frames.poses);
-  return result;
-}
-
 }  // namespace brisance::server

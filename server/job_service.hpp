@@ -87,15 +87,6 @@ class JobService {
   std::optional<std::string> result_summary(std::string_view id) {
     return storage_.result_summary(id);
   }
-  std::vector<StoredBody> result_bodies(std::string_view id) { return storage_.result_bodies(id); }
-  std::vector<StoredFrame> result_frames(std::string_view id, std::int64_t from, std::int64_t to) {
-    return storage_.result_frames(id, from, to);
-  }
-  // The stored result rebuilt for the glTF writer (poses at the stored float32 precision).
-  // Deprecated: the stored result as an engine::Result for io::result_to_glb (bodies, animated,
-  // frames only). Only the result.glb handler of server/api.cpp calls it; once it calls
-  // result_glb instead, delete this.
-  std::optional<engine::Result> stored_result(std::string_view id);
 
   // The result forms of the HTTP API, built from the stored rows and encoded by sim/io (the
   // CLI's codec), so `brisance run` and the API give one shape.

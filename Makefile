@@ -86,6 +86,8 @@ bench: build
 	$(BUILD_DIR)/release/bench/blast_bench
 	$(BUILD_DIR)/release/bench/step_bench
 	$(BUILD_DIR)/release/bench/fracture_bench
+	$(BUILD_DIR)/release/bench/occlusion_bench
+	$(BUILD_DIR)/release/bench/response_bench
 
 # The job service under load: POST, GET, fixed-rate and drain phases against a spawned server.
 load-bench: build

@@ -47,7 +47,7 @@ constexpr std::array kRoutes = {
 
 // Whether the segments match the route's path; the {id} segment is stored in `id`.
 bool path_matches(std::string_view path, const std::vector<std::string>& segments,
-                  std::string& id) {
+                  std::string_view& id) {
   std::size_t k = 0;
   while (!path.empty()) {
     path.remove_prefix(1);  // the '/'
@@ -126,17 +126,29 @@ HttpResponse Api::route(const HttpRequest& request, const std::optional<LongPoll
   }
   routes::Context context{request, *target, {}, poll, service_, metrics_, workers_, options_, {}};
 
+  // The first route whose path and method match; the methods of every route with that path
+  // make the Allow header of a 405.
   const Route* matched = nullptr;
-  std::string allow;
+  bool path_known = false;
   for (const Route& r : kRoutes) {
-    std::string id;
+    std::string_view id;
     if (!path_matches(r.path, target->segments, id)) continue;
-    label = std::string(r.path);
-    if (!allow.empty()) allow += ", ";
-    allow += r.method == "GET" ? "GET, HEAD" : std::string(r.method);
-    if (method_matches(r.method, request.method) && !matched) {
+    path_known = true;
+    if (method_matches(r.method, request.method)) {
       matched = &r;
-      context.id = std::move(id);
+      context.id = std::string(id);
+      label = std::string(r.path);
+      break;
+    }
+  }
+  std::string allow;
+  if (!matched && path_known) {
+    for (const Route& r : kRoutes) {
+      std::string_view id;
+      if (!path_matches(r.path, target->segments, id)) continue;
+      label = std::string(r.path);
+      if (!allow.empty()) allow += ", ";
+      allow += r.method == "GET" ? "GET, HEAD" : std::string(r.method);
     }
   }
 

@@ -91,10 +91,12 @@ TEST(BlastCommand, BadInputIsOneClearMessage) {
   EXPECT_NE(usage_error({"--distance-m", "5"}).find("--charge-kg is required"), std::string::npos);
   EXPECT_NE(usage_error({"--charge-kg", "-1", "--distance-m", "5"}).find("greater than 0"),
             std::string::npos);
-  EXPECT_NE(usage_error({"--charge-kg", "abc", "--distance-m", "5"}).find("must be a finite number"),
-            std::string::npos);
-  EXPECT_NE(usage_error({"--charge-kg", "nan", "--distance-m", "5"}).find("must be a finite number"),
-            std::string::npos);
+  EXPECT_NE(
+      usage_error({"--charge-kg", "abc", "--distance-m", "5"}).find("must be a finite number"),
+      std::string::npos);
+  EXPECT_NE(
+      usage_error({"--charge-kg", "nan", "--distance-m", "5"}).find("must be a finite number"),
+      std::string::npos);
   EXPECT_NE(usage_error({"--charge-kg", "1", "--distance-m", "5", "--explosive", "semtex-x"})
                 .find("known: TNT"),
             std::string::npos);

@@ -63,11 +63,7 @@ BodySources body_sources(const scene::Scene& scene) {
     large_deflection = large_deflection || !report.small_deflection;
     sources.reports.push_back(std::move(report));
   }
-  if (out_of_range)
-    sources.warnings.emplace_back(
-        "blast_out_of_range",
-        "a panel lies outside the Kingery-Bulmash fitted range (Z 0.05-40 m/kg^(1/3)); its load is "
-        "continued from the range's end (see docs/blast-model.md)");
+  if (out_of_range) sources.warnings.emplace_back("blast_out_of_range", kBlastOutOfRangeMessage);
   if (large_deflection)
     sources.warnings.emplace_back(
         "pane_large_deflection",

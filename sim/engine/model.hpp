@@ -28,6 +28,11 @@
 
 namespace brisance::engine {
 
+// The one text of the blast_out_of_range warning, raised while breaking panes and while loading.
+inline constexpr const char* kBlastOutOfRangeMessage =
+    "a panel lies outside the Kingery-Bulmash fitted range (Z 0.05-40 m/kg^(1/3)); its load is "
+    "continued from the range's end (see docs/blast-model.md)";
+
 using dynamics::Quat;
 using dynamics::Vec3;
 

@@ -37,10 +37,7 @@ void Run::activate(const PanelEvent& event) {
   const blast::ObliqueReflection reflection = blast::oblique_reflection(
       point.incident_overpressure_pa, point.incident_impulse_pa_s, point.reflected_overpressure_pa,
       point.reflected_impulse_pa_s, angle);
-  if (!point.in_validity_range)
-    warnings_.add("blast_out_of_range",
-                  "a panel lies outside the Kingery-Bulmash fitted range (Z 0.05-40 m/kg^(1/3)); "
-                  "its load is continued from the range's end (see docs/blast-model.md)");
+  if (!point.in_validity_range) warnings_.add("blast_out_of_range", kBlastOutOfRangeMessage);
   if (!reflection.in_chart_range)
     warnings_.add("reflection_out_of_chart",
                   "a panel's incident overpressure lies outside the reflection chart "

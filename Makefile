@@ -8,9 +8,10 @@ GENERATOR := $(shell command -v ninja >/dev/null 2>&1 && echo "-G Ninja")
 # Debian packages the project builds with (see README "Dependencies").
 DEB_PACKAGES := cmake g++ make ninja-build pkg-config \
   libeigen3-dev libboost1.81-dev nlohmann-json3-dev libsqlite3-dev \
-  libgtest-dev libgmock-dev libbenchmark-dev libssl-dev python3
-# Only the browser tests need these.
-TEST_DEB_PACKAGES := chromium
+  libgtest-dev libgmock-dev libbenchmark-dev libssl-dev libpq-dev python3
+# Only the tests need these: chromium for the browser tests, postgresql (15 on Debian 12) for the
+# PostgreSQL store's tests, which start their own server in a temporary folder.
+TEST_DEB_PACKAGES := chromium postgresql
 
 .PHONY: all deps node gltf-validator web web-test-deps build run test sanitize bench load-bench accuracy-study format clean
 
@@ -57,7 +58,8 @@ web: node
 	npm ci --prefix web --no-audit --no-fund --loglevel=error
 	npm run --prefix web build
 
-# The browser tests (tests/web.cmake): Debian's chromium driven by playwright-core.
+# The browser tests (tests/web.cmake): Debian's chromium driven by playwright-core; and the
+# PostgreSQL server the store's tests start (tests/server/postgres_fixture.hpp).
 web-test-deps: node
 	$(call apt_install,$(TEST_DEB_PACKAGES))
 	npm ci --prefix tests/web --no-audit --no-fund --loglevel=error

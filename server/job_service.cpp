@@ -74,7 +74,26 @@ void ChangeNotifier::notify(const std::string& job_id) {
 }
 
 JobService::JobService(Storage& storage, ServiceOptions options)
-    : storage_(storage), options_(std::move(options)) {}
+    : storage_(storage), options_(std::move(options)) {
+  // Changes other nodes make on a shared store wake this node's long-polls and idle workers.
+  storage_.watch([this](const std::string& id) { notifier_.notify(id); },
+                 [this] { signal_work(); });
+}
+
+JobService::~JobService() {
+  storage_.watch({}, {});
+}
+
+void JobService::set_work_signal(std::function<void()> signal) {
+  std::lock_guard lock(work_signal_mutex_);
+  work_signal_ = std::move(signal);
+}
+
+void JobService::signal_work() {
+  // Called under the lock, so a pool that cleared its signal is never called afterwards.
+  std::lock_guard lock(work_signal_mutex_);
+  if (work_signal_) work_signal_();
+}
 
 std::int64_t JobService::queued_estimate() {
   // Counting queued rows on every submission would cost more than the insert; a count at most
@@ -166,7 +185,7 @@ SubmitOutcome JobService::submit(const SubmitRequest& request) {
       return outcome;
   }
   outcome.job = std::move(created.job);
-  if (outcome.kind == SubmitOutcome::Kind::accepted && work_signal_) work_signal_();
+  if (outcome.kind == SubmitOutcome::Kind::accepted) signal_work();
   return outcome;
 }
 

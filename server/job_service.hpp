@@ -72,6 +72,9 @@ struct SubmitOutcome {
 class JobService {
  public:
   JobService(Storage& storage, ServiceOptions options);
+  ~JobService();
+  JobService(const JobService&) = delete;
+  JobService& operator=(const JobService&) = delete;
 
   SubmitOutcome submit(const SubmitRequest& request);
   std::optional<JobRecord> job(std::string_view id) { return storage_.get_job(id); }
@@ -116,16 +119,18 @@ class JobService {
   // Cancellation flags of the jobs running in this process, polled by their workers every step.
   std::shared_ptr<std::atomic<bool>> register_running(const std::string& id);
   void unregister_running(const std::string& id);
-  // Wakes a worker waiting for work (a job was queued).
-  void set_work_signal(std::function<void()> signal) { work_signal_ = std::move(signal); }
+  // Wakes a worker waiting for work (a job was queued, here or on another node of the store).
+  void set_work_signal(std::function<void()> signal);
 
  private:
   std::int64_t queued_estimate();
   void forget_queued_count();  // the next submission counts again (room was made)
+  void signal_work();
 
   Storage& storage_;
   ServiceOptions options_;
   ChangeNotifier notifier_;
+  std::mutex work_signal_mutex_;  // the store's listener thread signals too
   std::function<void()> work_signal_;
 
   std::mutex running_mutex_;

@@ -9,6 +9,7 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -167,6 +168,17 @@ class Storage {
   // Deletes finished jobs (and their results) that finished before `before_ms`.
   virtual std::int64_t prune_finished(std::int64_t before_ms) = 0;
   virtual bool ping() = 0;
+
+  // Changes made by other processes on a shared store: `job_changed` hears the id of a job that
+  // changed (to wake long-polls parked on it), `work_queued` that a job may be waiting (to wake
+  // idle workers). Called on a thread of the store's own; they must only post work. The SQLite
+  // store has no such channel and never calls them (its workers poll).
+  using JobChanged = std::function<void(const std::string& job_id)>;
+  using WorkQueued = std::function<void()>;
+  virtual void watch(JobChanged job_changed, WorkQueued work_queued) {
+    (void)job_changed;
+    (void)work_queued;
+  }
 };
 
 }  // namespace brisance::server

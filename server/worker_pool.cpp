@@ -49,6 +49,7 @@ WorkerPool::WorkerPool(JobService& service, Metrics& metrics, WorkerOptions opti
 }
 
 WorkerPool::~WorkerPool() {
+  service_.set_work_signal({});  // the store's listener thread may outlive this pool
   stop(std::chrono::milliseconds(0));
 }
 

@@ -1,0 +1,687 @@
+#include "server/pg_storage.hpp"
+
+#include <algorithm>
+#include <atomic>
+#include <condition_variable>
+#include <mutex>
+#include <thread>
+#include <type_traits>
+#include <utility>
+#include <vector>
+
+#include <poll.h>
+
+#include "server/embedded.hpp"
+#include "server/pg.hpp"
+
+namespace brisance::server {
+
+bool is_postgres_url(std::string_view text) {
+  return text.starts_with("postgres://") || text.starts_with("postgresql://");
+}
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+// pg_advisory_lock key of the migrations: "brisance" in ASCII.
+constexpr const char* kMigrationLock = "SELECT pg_advisory_lock(7093015238034759269)";
+constexpr const char* kMigrationUnlock = "SELECT pg_advisory_unlock(7093015238034759269)";
+
+// Idle connections kept for reuse; more are opened when more threads need one at once.
+constexpr std::size_t kMaxIdleConnections = 16;
+// Frames inserted per statement when a result is stored (4 parameters each).
+constexpr std::size_t kFramesPerInsert = 1000;
+
+#define JOB_COLUMNS                                                                        \
+  "id, seq, status, priority, progress, version, attempts, cancel_requested, created_ms, " \
+  "updated_ms, started_ms, finished_ms, error_type, error, stats, owner"
+constexpr int kJobColumnCount = 16;
+
+JobRecord read_job(const pg::Result& r, int row) {
+  JobRecord j;
+  j.id = std::string(r.text(row, 0));
+  j.seq = r.int64(row, 1);
+  j.status = parse_job_status(r.text(row, 2)).value_or(JobStatus::queued);
+  j.priority = static_cast<int>(r.int64(row, 3));
+  j.progress = r.real(row, 4);
+  j.version = r.int64(row, 5);
+  j.attempts = static_cast<int>(r.int64(row, 6));
+  j.cancel_requested = r.boolean(row, 7);
+  j.created_ms = r.int64(row, 8);
+  j.updated_ms = r.int64(row, 9);
+  j.started_ms = r.optional_int64(row, 10);
+  j.finished_ms = r.optional_int64(row, 11);
+  j.error_type = std::string(r.text(row, 12));
+  j.error = std::string(r.text(row, 13));
+  j.stats_json = std::string(r.text(row, 14));
+  j.owner = std::string(r.text(row, 15));
+  return j;
+}
+
+class PgStorage final : public Storage {
+ public:
+  explicit PgStorage(PostgresOptions options)
+      : options_(std::move(options)), backoff_(options_.first_backoff) {
+    with_connection([&](pg::Connection& c) {
+      migrate(c);
+      return 0;
+    });
+  }
+
+  ~PgStorage() override {
+    {
+      std::lock_guard lock(listen_mutex_);
+      stop_ = true;
+    }
+    listen_wake_.notify_all();
+    if (listener_.joinable()) listener_.join();
+  }
+
+  CreateResult create_job(const NewJob& job) override {
+    // Idempotency keys are the owner's own (as on SQLite): the owner's name prefixes the key.
+    const std::string scoped_key =
+        job.owner.empty() ? job.idempotency_key : job.owner + "\n" + job.idempotency_key;
+    return with_connection([&](pg::Connection& c) -> CreateResult {
+      auto existing = [&]() -> std::optional<CreateResult> {
+        const pg::Result r =
+            c.exec("SELECT " JOB_COLUMNS ", request_hash FROM jobs WHERE idempotency_key = $1",
+                   pg::Params().add(scoped_key));
+        if (r.rows() == 0) return std::nullopt;
+        CreateResult found{CreateOutcome::existing, read_job(r, 0)};
+        if (r.text(0, kJobColumnCount) != job.request_hash) {
+          found.outcome = CreateOutcome::key_conflict;
+        }
+        return found;
+      };
+      if (!job.idempotency_key.empty()) {
+        if (auto found = existing()) return *found;
+      }
+      if (!job.create_if_missing) return {CreateOutcome::not_created, {}};
+      pg::Params params;
+      params.add(job.id).add(job.priority).add(job.scene_json).add(job.now_ms);
+      if (job.idempotency_key.empty()) {
+        params.add_null().add_null();
+      } else {
+        params.add(scoped_key).add(job.request_hash);
+      }
+      params.add(job.owner);
+      // Another node may insert the same key between the look-up and here: ON CONFLICT waits
+      // for its commit and inserts nothing, and the look-up then finds that job.
+      const pg::Result r = c.exec(
+          "WITH inserted AS (INSERT INTO jobs (id, status, priority, scene, created_ms, "
+          "updated_ms, idempotency_key, request_hash, owner) "
+          "VALUES ($1, 'queued', $2, $3, $4, $4, $5, $6, $7) "
+          "ON CONFLICT (idempotency_key) DO NOTHING RETURNING seq) "
+          "SELECT seq, pg_notify('brisance_queue', '') FROM inserted",
+          params);
+      if (r.rows() == 0) {
+        if (auto found = existing()) return *found;
+        throw StorageError("postgres: idempotency key conflict on a job that vanished");
+      }
+      JobRecord created;
+      created.id = job.id;
+      created.seq = r.int64(0, 0);
+      created.priority = job.priority;
+      created.created_ms = job.now_ms;
+      created.updated_ms = job.now_ms;
+      created.owner = job.owner;
+      return {CreateOutcome::created, std::move(created)};
+    });
+  }
+
+  std::optional<JobRecord> get_job(std::string_view id) override {
+    return with_connection([&](pg::Connection& c) -> std::optional<JobRecord> {
+      const pg::Result r =
+          c.exec("SELECT " JOB_COLUMNS " FROM jobs WHERE id = $1", pg::Params().add(id));
+      if (r.rows() == 0) return std::nullopt;
+      return read_job(r, 0);
+    });
+  }
+
+  JobPage list_jobs(std::optional<JobStatus> status, std::int64_t before_seq, int limit,
+                    std::optional<std::string_view> owner) override {
+    pg::Params params;
+    params.add(before_seq > 0 ? before_seq : INT64_MAX);
+    std::string sql = "SELECT " JOB_COLUMNS " FROM jobs WHERE seq < $1";
+    if (owner) {
+      params.add(*owner);
+      sql += " AND owner = $" + std::to_string(params.size());
+    }
+    if (status) {
+      params.add(to_string(*status));
+      sql += " AND status = $" + std::to_string(params.size());
+    }
+    params.add(limit + 1);
+    sql += " ORDER BY seq DESC LIMIT $" + std::to_string(params.size());
+    return with_connection([&](pg::Connection& c) {
+      const pg::Result r = c.exec(sql.c_str(), params);
+      JobPage page;
+      for (int row = 0; row < r.rows(); ++row)
+        page.jobs.push_back(read_job(r, row));
+      if (static_cast<int>(page.jobs.size()) > limit) {
+        page.jobs.pop_back();
+        page.cursor = page.jobs.back().seq;
+      }
+      return page;
+    });
+  }
+
+  std::int64_t count_queued() override {
+    return with_connection([&](pg::Connection& c) {
+      return c.exec("SELECT count(*) FROM jobs WHERE status = 'queued'").int64(0, 0);
+    });
+  }
+
+  QueueCounts queue_counts(std::int64_t now_ms) override {
+    return with_connection([&](pg::Connection& c) {
+      // One statement, so one snapshot.
+      const pg::Result r = c.exec(
+          "SELECT count(*) FILTER (WHERE status = 'queued'), "
+          "count(*) FILTER (WHERE status = 'running'), "
+          "count(*) FILTER (WHERE status = 'succeeded'), "
+          "count(*) FILTER (WHERE status = 'failed'), "
+          "count(*) FILTER (WHERE status = 'cancelled'), "
+          "min(created_ms) FILTER (WHERE status = 'queued'), "
+          "count(*) FILTER (WHERE finished_ms >= $1 AND status IN ('succeeded', 'failed')) "
+          "FROM jobs",
+          pg::Params().add(now_ms - 60000));
+      QueueCounts counts;
+      for (int s = 0; s < 5; ++s)
+        counts.by_status[static_cast<std::size_t>(s)] = r.int64(0, s);
+      counts.oldest_queued_created_ms = r.optional_int64(0, 5);
+      counts.finished_last_minute = r.int64(0, 6);
+      return counts;
+    });
+  }
+
+  std::optional<ClaimedJob> claim_next(std::string_view owner, std::int64_t now_ms,
+                                       std::int64_t lease_ms) override {
+    return with_connection([&](pg::Connection& c) -> std::optional<ClaimedJob> {
+      // SKIP LOCKED: a row another node is claiming right now is passed over, not waited on.
+      const pg::Result r = c.exec(
+          "WITH next AS (SELECT seq AS next_seq FROM jobs WHERE status = 'queued' "
+          "ORDER BY priority DESC, seq LIMIT 1 FOR UPDATE SKIP LOCKED) "
+          "UPDATE jobs SET status = 'running', lease_owner = $1, lease_expires_ms = $2, "
+          "attempts = attempts + 1, started_ms = $3, updated_ms = $3, progress = 0, "
+          "version = version + 1 FROM next WHERE seq = next_seq "
+          "RETURNING " JOB_COLUMNS ", scene, pg_notify('brisance_jobs', id)",
+          pg::Params().add(owner).add(now_ms + lease_ms).add(now_ms));
+      if (r.rows() == 0) return std::nullopt;
+      return ClaimedJob{read_job(r, 0), std::string(r.text(0, kJobColumnCount))};
+    });
+  }
+
+  bool renew_lease(std::string_view id, std::string_view owner, std::int64_t until_ms) override {
+    return owned_update(
+        "UPDATE jobs SET lease_expires_ms = $3 WHERE id = $1 AND lease_owner = $2 "
+        "AND status = 'running'",
+        pg::Params().add(id).add(owner).add(until_ms));
+  }
+
+  bool set_progress(std::string_view id, std::string_view owner, double progress,
+                    std::int64_t now_ms) override {
+    return owned_update(
+        "UPDATE jobs SET progress = $3, updated_ms = $4, version = version + 1 "
+        "WHERE id = $1 AND lease_owner = $2 AND status = 'running' "
+        "RETURNING pg_notify('brisance_jobs', id)",
+        pg::Params().add(id).add(owner).add(progress).add(now_ms));
+  }
+
+  bool complete(std::string_view id, std::string_view owner, const StoredResult& result,
+                std::int64_t now_ms) override {
+    return with_connection([&](pg::Connection& c) {
+      pg::Transaction tx(c);
+      std::int64_t seq = 0;
+      {
+        // The row lock holds off a concurrent requeue or delete until this commits.
+        const pg::Result r = c.exec(
+            "SELECT seq FROM jobs WHERE id = $1 AND lease_owner = $2 AND status = 'running' "
+            "FOR UPDATE",
+            pg::Params().add(id).add(owner));
+        if (r.rows() == 0) return false;
+        seq = r.int64(0, 0);
+      }
+      for (std::size_t i = 0; i < result.bodies.size(); ++i) {
+        const StoredBody& b = result.bodies[i];
+        pg::Params params;
+        params.add(seq).add(static_cast<std::int64_t>(i)).add(b.name).add(b.mass_kg);
+        params.add(b.animated);
+        params.add_bytes(std::span<const double>(b.initial_pose));
+        params.add_bytes(std::span<const float>(b.vertices));
+        params.add_bytes(std::span<const std::uint32_t>(b.triangles));
+        c.exec(
+            "INSERT INTO job_bodies (job_seq, body_index, name, mass_kg, animated, "
+            "initial_pose, vertices, triangles) VALUES ($1, $2, $3, $4, $5, $6, $7, $8)",
+            params);
+      }
+      for (std::size_t first = 0; first < result.frames.size(); first += kFramesPerInsert) {
+        const std::size_t last = std::min(result.frames.size(), first + kFramesPerInsert);
+        pg::Params params;
+        std::string sql = "INSERT INTO job_frames (job_seq, frame, time_s, poses) VALUES ";
+        for (std::size_t f = first; f < last; ++f) {
+          const int base = params.size();
+          params.add(seq).add(static_cast<std::int64_t>(f)).add(result.frames[f].time_s);
+          params.add_bytes(std::span<const float>(result.frames[f].poses));
+          sql += (f == first ? "($" : ", ($") + std::to_string(base + 1) + ", $" +
+                 std::to_string(base + 2) + ", $" + std::to_string(base + 3) + ", $" +
+                 std::to_string(base + 4) + ")";
+        }
+        c.exec(sql.c_str(), params);
+      }
+      c.exec(
+          "UPDATE jobs SET status = 'succeeded', progress = 1, finished_ms = $2, "
+          "updated_ms = $2, version = version + 1, lease_owner = NULL, lease_expires_ms = NULL, "
+          "stats = $3, result_summary = $4 WHERE seq = $1 "
+          "RETURNING pg_notify('brisance_jobs', id)",
+          pg::Params().add(seq).add(now_ms).add(result.stats_json).add(result.summary_json));
+      tx.commit();
+      return true;
+    });
+  }
+
+  bool fail(std::string_view id, std::string_view owner, std::string_view error_type,
+            std::string_view message, std::int64_t now_ms) override {
+    return owned_update(
+        "UPDATE jobs SET status = 'failed', finished_ms = $3, updated_ms = $3, "
+        "version = version + 1, lease_owner = NULL, lease_expires_ms = NULL, error_type = $4, "
+        "error = $5 WHERE id = $1 AND lease_owner = $2 AND status = 'running' "
+        "RETURNING pg_notify('brisance_jobs', id)",
+        pg::Params().add(id).add(owner).add(now_ms).add(error_type).add(message));
+  }
+
+  bool finish_cancelled(std::string_view id, std::string_view owner, std::int64_t now_ms) override {
+    return owned_update(
+        "UPDATE jobs SET status = 'cancelled', finished_ms = $3, updated_ms = $3, "
+        "version = version + 1, lease_owner = NULL, lease_expires_ms = NULL "
+        "WHERE id = $1 AND lease_owner = $2 AND status = 'running' "
+        "RETURNING pg_notify('brisance_jobs', id)",
+        pg::Params().add(id).add(owner).add(now_ms));
+  }
+
+  bool release(std::string_view id, std::string_view owner, std::int64_t now_ms) override {
+    return owned_update(
+        "UPDATE jobs SET status = 'queued', progress = 0, started_ms = NULL, updated_ms = $3, "
+        "version = version + 1, lease_owner = NULL, lease_expires_ms = NULL, "
+        "attempts = greatest(attempts - 1, 0) "
+        "WHERE id = $1 AND lease_owner = $2 AND status = 'running' "
+        "RETURNING pg_notify('brisance_jobs', id), pg_notify('brisance_queue', '')",
+        pg::Params().add(id).add(owner).add(now_ms));
+  }
+
+  bool cancel_requested(std::string_view id) override {
+    return with_connection([&](pg::Connection& c) {
+      const pg::Result r =
+          c.exec("SELECT cancel_requested FROM jobs WHERE id = $1", pg::Params().add(id));
+      return r.rows() == 0 || r.boolean(0, 0);  // a deleted job counts as cancelled
+    });
+  }
+
+  CancelOutcome request_cancel(std::string_view id, std::int64_t now_ms) override {
+    return with_connection([&](pg::Connection& c) {
+      pg::Transaction tx(c);
+      JobStatus status;
+      {
+        const pg::Result r =
+            c.exec("SELECT status FROM jobs WHERE id = $1 FOR UPDATE", pg::Params().add(id));
+        if (r.rows() == 0) return CancelOutcome::not_found;
+        status = parse_job_status(r.text(0, 0)).value_or(JobStatus::queued);
+      }
+      CancelOutcome outcome = CancelOutcome::already_final;
+      if (status == JobStatus::queued) {
+        c.exec(
+            "UPDATE jobs SET status = 'cancelled', cancel_requested = true, finished_ms = $2, "
+            "updated_ms = $2, version = version + 1 WHERE id = $1 "
+            "RETURNING pg_notify('brisance_jobs', id)",
+            pg::Params().add(id).add(now_ms));
+        outcome = CancelOutcome::cancelled;
+      } else if (status == JobStatus::running) {
+        c.exec(
+            "UPDATE jobs SET cancel_requested = true, updated_ms = $2, version = version + 1 "
+            "WHERE id = $1 AND NOT cancel_requested RETURNING pg_notify('brisance_jobs', id)",
+            pg::Params().add(id).add(now_ms));
+        outcome = CancelOutcome::requested;
+      }
+      tx.commit();
+      return outcome;
+    });
+  }
+
+  bool delete_job(std::string_view id) override {
+    return owned_update("DELETE FROM jobs WHERE id = $1 RETURNING pg_notify('brisance_jobs', id)",
+                        pg::Params().add(id));
+  }
+
+  std::optional<std::string> scene(std::string_view id) override {
+    return text_column("SELECT scene FROM jobs WHERE id = $1", id);
+  }
+
+  std::optional<std::string> result_summary(std::string_view id) override {
+    return text_column("SELECT result_summary FROM jobs WHERE id = $1 AND status = 'succeeded'",
+                       id);
+  }
+
+  std::vector<StoredBody> result_bodies(std::string_view id) override {
+    return with_connection([&](pg::Connection& c) {
+      const pg::Result r = c.exec(
+          "SELECT b.name, b.mass_kg, b.animated, b.initial_pose, b.vertices, b.triangles "
+          "FROM job_bodies b JOIN jobs j ON j.seq = b.job_seq WHERE j.id = $1 "
+          "ORDER BY b.body_index",
+          pg::Params().add(id));
+      std::vector<StoredBody> bodies;
+      for (int row = 0; row < r.rows(); ++row) {
+        StoredBody b;
+        b.name = std::string(r.text(row, 0));
+        b.mass_kg = r.real(row, 1);
+        b.animated = r.boolean(row, 2);
+        const auto pose = r.bytes<double>(row, 3);
+        std::copy_n(pose.begin(), std::min<std::size_t>(pose.size(), 7), b.initial_pose.begin());
+        b.vertices = r.bytes<float>(row, 4);
+        b.triangles = r.bytes<std::uint32_t>(row, 5);
+        bodies.push_back(std::move(b));
+      }
+      return bodies;
+    });
+  }
+
+  std::vector<StoredFrame> result_frames(std::string_view id, std::int64_t from,
+                                         std::int64_t to) override {
+    return with_connection([&](pg::Connection& c) {
+      const pg::Result r = c.exec(
+          "SELECT f.time_s, f.poses FROM job_frames f JOIN jobs j ON j.seq = f.job_seq "
+          "WHERE j.id = $1 AND f.frame >= $2 AND f.frame < $3 ORDER BY f.frame",
+          pg::Params()
+              .add(id)
+              .add(std::clamp<std::int64_t>(from, 0, INT32_MAX))
+              .add(std::clamp<std::int64_t>(to, 0, INT32_MAX)));
+      std::vector<StoredFrame> frames;
+      frames.reserve(static_cast<std::size_t>(r.rows()));
+      for (int row = 0; row < r.rows(); ++row)
+        frames.push_back({r.real(row, 0), r.bytes<float>(row, 1)});
+      return frames;
+    });
+  }
+
+  RecoveryReport recover_expired(std::int64_t now_ms, int max_attempts) override {
+    return with_connection([&](pg::Connection& c) {
+      pg::Transaction tx(c);
+      RecoveryReport report;
+      report.failed =
+          c.exec(
+               "UPDATE jobs SET status = 'failed', finished_ms = $1, updated_ms = $1, "
+               "version = version + 1, lease_owner = NULL, lease_expires_ms = NULL, "
+               "error_type = 'worker_lost', error = 'the worker running this job stopped "
+               "(crashed or was killed) ' || attempts || ' times; the job is not retried again' "
+               "WHERE status = 'running' AND lease_expires_ms < $1 AND attempts >= $2 "
+               "RETURNING pg_notify('brisance_jobs', id)",
+               pg::Params().add(now_ms).add(max_attempts))
+              .rows();
+      // A job whose cancel was requested is not run again.
+      report.requeued =
+          c.exec(
+               "UPDATE jobs SET status = CASE WHEN cancel_requested THEN 'cancelled' ELSE "
+               "'queued' END, finished_ms = CASE WHEN cancel_requested THEN $1::bigint END, "
+               "progress = 0, started_ms = NULL, updated_ms = $1, version = version + 1, "
+               "lease_owner = NULL, lease_expires_ms = NULL "
+               "WHERE status = 'running' AND lease_expires_ms < $1 "
+               "RETURNING pg_notify('brisance_jobs', id), pg_notify('brisance_queue', '')",
+               pg::Params().add(now_ms))
+              .rows();
+      tx.commit();
+      return report;
+    });
+  }
+
+  std::vector<std::string> running_owners() override {
+    return with_connection([&](pg::Connection& c) {
+      const pg::Result r = c.exec(
+          "SELECT DISTINCT lease_owner FROM jobs WHERE status = 'running' "
+          "AND lease_owner IS NOT NULL ORDER BY lease_owner");
+      std::vector<std::string> owners;
+      for (int row = 0; row < r.rows(); ++row)
+        owners.emplace_back(r.text(row, 0));
+      return owners;
+    });
+  }
+
+  std::int64_t expire_leases(std::string_view owner) override {
+    return with_connection([&](pg::Connection& c) {
+      return c
+          .exec(
+              "UPDATE jobs SET lease_expires_ms = 0 WHERE status = 'running' AND lease_owner = $1",
+              pg::Params().add(owner))
+          .affected();
+    });
+  }
+
+  std::int64_t prune_finished(std::int64_t before_ms) override {
+    return with_connection([&](pg::Connection& c) {
+      return c
+          .exec(
+              "DELETE FROM jobs WHERE finished_ms < $1 AND status IN ('succeeded', 'failed', "
+              "'cancelled')",
+              pg::Params().add(before_ms))
+          .affected();
+    });
+  }
+
+  bool ping() override {
+    try {
+      return with_connection([](pg::Connection& c) { return c.exec("SELECT 1").int64(0, 0) == 1; });
+    } catch (const StorageError&) {
+      return false;
+    }
+  }
+
+  void watch(JobChanged job_changed, WorkQueued work_queued) override {
+    // Waits for a dispatch in progress, so the old callbacks are not called after this returns.
+    std::lock_guard dispatching(dispatch_mutex_);
+    std::lock_guard lock(listen_mutex_);
+    job_changed_ = std::move(job_changed);
+    work_queued_ = std::move(work_queued);
+    if (!listener_.joinable() && (job_changed_ || work_queued_)) {
+      listener_ = std::thread([this] { listen(); });
+    }
+  }
+
+ private:
+  // A pooled connection, returned on destruction unless it broke.
+  class Lease {
+   public:
+    Lease(PgStorage& owner, std::unique_ptr<pg::Connection> c, bool reused)
+        : owner_(owner), c_(std::move(c)), reused_(reused) {}
+    Lease(const Lease&) = delete;
+    Lease& operator=(const Lease&) = delete;
+    ~Lease() {
+      if (!c_->ok()) return;
+      std::lock_guard lock(owner_.pool_mutex_);
+      if (owner_.pool_.size() < kMaxIdleConnections) owner_.pool_.push_back(std::move(c_));
+    }
+    pg::Connection& operator*() { return *c_; }
+    bool reused() const { return reused_; }
+
+   private:
+    PgStorage& owner_;
+    std::unique_ptr<pg::Connection> c_;
+    bool reused_;
+  };
+
+  Lease acquire() {
+    {
+      std::lock_guard lock(pool_mutex_);
+      if (!pool_.empty()) {
+        auto c = std::move(pool_.back());
+        pool_.pop_back();
+        return Lease(*this, std::move(c), true);
+      }
+    }
+    return Lease(*this, connect(), false);
+  }
+
+  // A new connection, unless the last attempt failed less than the backoff ago: then the store
+  // answers at once that the server is unreachable.
+  std::unique_ptr<pg::Connection> connect() {
+    {
+      std::lock_guard lock(backoff_mutex_);
+      if (Clock::now() < retry_at_) {
+        throw StorageError("postgres: unreachable, retrying with backoff: " + last_error_);
+      }
+    }
+    try {
+      auto c = std::make_unique<pg::Connection>(options_.conninfo);
+      std::lock_guard lock(backoff_mutex_);
+      backoff_ = options_.first_backoff;
+      return c;
+    } catch (const StorageError& error) {
+      std::lock_guard lock(backoff_mutex_);
+      retry_at_ = Clock::now() + backoff_;
+      backoff_ = std::min(backoff_ * 2, options_.max_backoff);
+      last_error_ = error.what();
+      throw;
+    }
+  }
+
+  // Runs `f` on a pooled connection. When a reused connection turns out broken (the server
+  // restarted since it was pooled), every idle one is presumed broken too and `f` runs once more
+  // on a new connection: a statement that failed because the connection was dead never reached
+  // the server's commit.
+  template <typename F>
+  std::invoke_result_t<F&, pg::Connection&> with_connection(F f) {
+    for (int attempt = 0;; ++attempt) {
+      Lease c = acquire();
+      try {
+        return f(*c);
+      } catch (const StorageError&) {
+        if ((*c).ok()) throw;
+        {
+          std::lock_guard lock(pool_mutex_);
+          pool_.clear();
+        }
+        if (!c.reused() || attempt > 0) throw;
+      }
+    }
+  }
+
+  // One conditional UPDATE/DELETE: true when it touched a row.
+  bool owned_update(const char* sql, const pg::Params& params) {
+    return with_connection([&](pg::Connection& c) {
+      const pg::Result r = c.exec(sql, params);
+      return r.affected() > 0;
+    });
+  }
+
+  std::optional<std::string> text_column(const char* sql, std::string_view id) {
+    return with_connection([&](pg::Connection& c) -> std::optional<std::string> {
+      const pg::Result r = c.exec(sql, pg::Params().add(id));
+      if (r.rows() == 0) return std::nullopt;
+      return std::string(r.text(0, 0));
+    });
+  }
+
+  // Under a session advisory lock: the first node to start migrates, the others wait for it.
+  static void migrate(pg::Connection& c) {
+    c.exec(kMigrationLock);
+    try {
+      c.exec(
+          "CREATE TABLE IF NOT EXISTS schema_migrations (version INTEGER PRIMARY KEY, "
+          "name TEXT NOT NULL, applied_ms BIGINT NOT NULL)");
+      for (const EmbeddedFile& m : embedded_pg_migrations()) {
+        const int version = std::stoi(std::string(m.name.substr(0, 3)));
+        pg::Transaction tx(c);
+        if (c.exec("SELECT 1 FROM schema_migrations WHERE version = $1", pg::Params().add(version))
+                .rows() > 0) {
+          continue;
+        }
+        c.exec(std::string(m.data).c_str());
+        c.exec(
+            "INSERT INTO schema_migrations (version, name, applied_ms) VALUES ($1, $2, "
+            "(extract(epoch FROM clock_timestamp()) * 1000)::bigint)",
+            pg::Params().add(version).add(m.name));
+        tx.commit();
+      }
+    } catch (const StorageError&) {
+      if (c.ok()) c.exec(kMigrationUnlock);
+      throw;
+    }
+    c.exec(kMigrationUnlock);
+  }
+
+  // The LISTEN connection: reconnects with backoff; after every (re)connection it reports work
+  // queued, since notifications sent while it was away are lost.
+  void listen() {
+    std::unique_ptr<pg::Connection> c;
+    auto backoff = options_.first_backoff;
+    while (true) {
+      {
+        std::lock_guard lock(listen_mutex_);
+        if (stop_) return;
+      }
+      if (!c) {
+        try {
+          c = std::make_unique<pg::Connection>(options_.conninfo);
+          c->exec("LISTEN brisance_jobs");
+          c->exec("LISTEN brisance_queue");
+          backoff = options_.first_backoff;
+        } catch (const StorageError&) {
+          c.reset();
+          std::unique_lock lock(listen_mutex_);
+          listen_wake_.wait_for(lock, backoff, [this] { return stop_; });
+          backoff = std::min(backoff * 2, options_.max_backoff);
+          continue;
+        }
+        dispatch({"brisance_queue", ""});
+      }
+      // A short poll, so a stop request is seen within it.
+      pollfd fd{c->socket(), POLLIN, 0};
+      if (poll(&fd, 1, 200) < 0) continue;
+      if (!c->consume()) {
+        c.reset();
+        continue;
+      }
+      while (auto n = c->next_notification())
+        dispatch(*n);
+    }
+  }
+
+  void dispatch(const pg::Notification& n) {
+    std::lock_guard dispatching(dispatch_mutex_);
+    if (n.channel == "brisance_jobs" && job_changed_) {
+      job_changed_(n.payload);
+    } else if (n.channel == "brisance_queue" && work_queued_) {
+      work_queued_();
+    }
+  }
+
+  PostgresOptions options_;
+
+  std::mutex pool_mutex_;
+  std::vector<std::unique_ptr<pg::Connection>> pool_;
+
+  std::mutex backoff_mutex_;
+  Clock::time_point retry_at_{};
+  std::chrono::milliseconds backoff_;
+  std::string last_error_;
+
+  std::mutex dispatch_mutex_;  // held while the callbacks run, and while they are replaced
+  std::mutex listen_mutex_;
+  std::condition_variable listen_wake_;
+  bool stop_ = false;
+  JobChanged job_changed_;
+  WorkQueued work_queued_;
+  std::thread listener_;
+};
+
+}  // namespace
+
+std::unique_ptr<Storage> open_postgres_storage(const PostgresOptions& options) {
+  return std::make_unique<PgStorage>(options);
+}
+
+int postgres_schema_version() {
+  int version = 0;
+  for (const EmbeddedFile& m : embedded_pg_migrations())
+    version = std::max(version, std::stoi(std::string(m.name.substr(0, 3))));
+  return version;
+}
+
+}  // namespace brisance::server

@@ -1,0 +1,461 @@
+// The job stores, SQLite and PostgreSQL, through one suite: migrations, idempotency, the claim
+// order, leases and their recovery, attempts, cancellation, deletion, retention, the owner filter
+// and the queue counts. Then what only one store has: SQLite's file errors; PostgreSQL's
+// notifications across nodes, claims from several nodes, and an unreachable server.
+#include <atomic>
+#include <condition_variable>
+#include <mutex>
+#include <set>
+#include <thread>
+
+#include <gtest/gtest.h>
+
+#include "server/pg_storage.hpp"
+#include "server/sqlite_storage.hpp"
+#include "tests/server/postgres_fixture.hpp"
+#include "tests/server/test_server.hpp"
+
+namespace brisance::testing {
+namespace {
+
+using server::JobStatus;
+
+server::NewJob new_job(std::string id, int priority = 0, std::int64_t now = 1000) {
+  server::NewJob job;
+  job.id = std::move(id);
+  job.scene_json = "{}";
+  job.priority = priority;
+  job.now_ms = now;
+  return job;
+}
+
+enum class Store { sqlite, postgres };
+
+std::string store_name(const ::testing::TestParamInfo<Store>& info) {
+  return info.param == Store::sqlite ? "Sqlite" : "Postgres";
+}
+
+// open() gives the store of the test's parameter; every call in one test opens the same
+// database (another connection, or another node).
+class StorageTest : public ::testing::TestWithParam<Store> {
+ protected:
+  std::unique_ptr<server::Storage> open() {
+    if (GetParam() == Store::sqlite) {
+      server::SqliteOptions options;
+      options.file = dir_.path() / "sub" / "jobs.sqlite3";
+      return server::open_sqlite_storage(options);
+    }
+    if (url_.empty()) url_ = shared_postgres().create_database();
+    server::PostgresOptions options;
+    options.conninfo = url_;
+    return server::open_postgres_storage(options);
+  }
+  int schema_version() const {
+    return GetParam() == Store::sqlite ? server::sqlite_schema_version()
+                                       : server::postgres_schema_version();
+  }
+  TempDir dir_;
+  std::string url_;
+};
+
+INSTANTIATE_TEST_SUITE_P(Stores, StorageTest, ::testing::Values(Store::sqlite, Store::postgres),
+                         store_name);
+
+TEST_P(StorageTest, MigratesOnceAndKeepsJobsAcrossReopen) {
+  {
+    auto storage = open();
+    storage->create_job(new_job("a"));
+  }
+  auto storage = open();  // the migrations do not run twice
+  const auto job = storage->get_job("a");
+  ASSERT_TRUE(job);
+  EXPECT_EQ(job->status, JobStatus::queued);
+  EXPECT_EQ(job->version, 1);
+  EXPECT_GE(schema_version(), 2);
+}
+
+TEST_P(StorageTest, IdempotencyKeyFindsTheFirstJobAndFlagsAnotherBody) {
+  auto storage = open();
+  auto job = new_job("a");
+  job.idempotency_key = "k";
+  job.request_hash = "h1";
+  EXPECT_EQ(storage->create_job(job).outcome, server::CreateOutcome::created);
+  job.id = "b";
+  const auto again = storage->create_job(job);
+  EXPECT_EQ(again.outcome, server::CreateOutcome::existing);
+  EXPECT_EQ(again.job.id, "a");
+  job.request_hash = "h2";
+  EXPECT_EQ(storage->create_job(job).outcome, server::CreateOutcome::key_conflict);
+  EXPECT_FALSE(storage->get_job("b"));
+}
+
+TEST_P(StorageTest, ClaimsByPriorityThenAgeAndCountsAttempts) {
+  auto storage = open();
+  storage->create_job(new_job("old-low", 0));
+  storage->create_job(new_job("new-high", 5));
+  storage->create_job(new_job("new-low", 0));
+  std::vector<std::string> order;
+  while (auto claimed = storage->claim_next("w", 2000, 1000)) {
+    order.push_back(claimed->job.id);
+    EXPECT_EQ(claimed->job.status, JobStatus::running);
+    EXPECT_EQ(claimed->job.attempts, 1);
+    EXPECT_EQ(claimed->scene_json, "{}");
+  }
+  EXPECT_EQ(order, (std::vector<std::string>{"new-high", "old-low", "new-low"}));
+}
+
+TEST_P(StorageTest, ConcurrentClaimsNeverHandOutAJobTwice) {
+  auto storage = open();
+  for (int i = 0; i < 200; ++i)
+    storage->create_job(new_job("j" + std::to_string(i)));
+  std::mutex mutex;
+  std::multiset<std::string> claimed;
+  std::vector<std::thread> threads;
+  for (int t = 0; t < 4; ++t) {
+    threads.emplace_back([&, t] {
+      while (auto job = storage->claim_next("w" + std::to_string(t), 2000, 60000)) {
+        std::lock_guard lock(mutex);
+        claimed.insert(job->job.id);
+      }
+    });
+  }
+  for (auto& thread : threads)
+    thread.join();
+  EXPECT_EQ(claimed.size(), 200u);
+  EXPECT_EQ(std::set<std::string>(claimed.begin(), claimed.end()).size(), 200u);
+}
+
+TEST_P(StorageTest, WorkerWritesNeedTheLease) {
+  auto storage = open();
+  storage->create_job(new_job("a"));
+  ASSERT_TRUE(storage->claim_next("w1", 2000, 1000));
+  EXPECT_FALSE(storage->set_progress("a", "w2", 0.5, 2100));
+  EXPECT_TRUE(storage->set_progress("a", "w1", 0.5, 2100));
+  EXPECT_FALSE(storage->complete("a", "w2", {}, 2200));
+  EXPECT_TRUE(storage->complete("a", "w1", {}, 2200));
+  EXPECT_FALSE(storage->complete("a", "w1", {}, 2300));  // exactly once
+  EXPECT_EQ(storage->get_job("a")->status, JobStatus::succeeded);
+}
+
+TEST_P(StorageTest, ExpiredLeasesRequeueUntilTheAttemptsRunOut) {
+  auto storage = open();
+  storage->create_job(new_job("a"));
+  std::int64_t now = 2000;
+  for (int attempt = 1; attempt <= 3; ++attempt) {
+    auto claimed = storage->claim_next("dead", now, 1000);
+    ASSERT_TRUE(claimed);
+    EXPECT_EQ(claimed->job.attempts, attempt);
+    now += 500;
+    EXPECT_EQ(storage->recover_expired(now, 3).requeued, 0);  // lease still valid
+    now += 1000;
+    const auto report = storage->recover_expired(now, 3);
+    if (attempt < 3) {
+      EXPECT_EQ(report.requeued, 1);
+      EXPECT_EQ(storage->get_job("a")->status, JobStatus::queued);
+    } else {
+      EXPECT_EQ(report.failed, 1);
+    }
+  }
+  const auto job = storage->get_job("a");
+  EXPECT_EQ(job->status, JobStatus::failed);
+  EXPECT_EQ(job->error_type, "worker_lost");
+  EXPECT_NE(job->error.find("3 times"), std::string::npos);
+  EXPECT_FALSE(storage->claim_next("w", now, 1000));
+}
+
+TEST_P(StorageTest, ReleaseDoesNotCountTheAttemptAndRenewKeepsTheLease) {
+  auto storage = open();
+  storage->create_job(new_job("a"));
+  ASSERT_TRUE(storage->claim_next("w", 2000, 1000));
+  EXPECT_TRUE(storage->renew_lease("a", "w", 10000));
+  EXPECT_EQ(storage->recover_expired(5000, 3).requeued, 0);
+  EXPECT_EQ(storage->running_owners(), std::vector<std::string>{"w"});
+  EXPECT_EQ(storage->expire_leases("w"), 1);
+  EXPECT_EQ(storage->recover_expired(5000, 3).requeued, 1);
+  ASSERT_TRUE(storage->claim_next("w", 6000, 1000));
+  EXPECT_TRUE(storage->release("a", "w", 6100));
+  const auto job = storage->get_job("a");
+  EXPECT_EQ(job->status, JobStatus::queued);
+  EXPECT_EQ(job->attempts, 1);
+}
+
+TEST_P(StorageTest, CancelQueuedAtOnceRunningByRequest) {
+  auto storage = open();
+  storage->create_job(new_job("q"));
+  storage->create_job(new_job("r", 9));
+  ASSERT_EQ(storage->claim_next("w", 2000, 1000)->job.id, "r");
+  EXPECT_EQ(storage->request_cancel("q", 2100), server::CancelOutcome::cancelled);
+  EXPECT_EQ(storage->get_job("q")->status, JobStatus::cancelled);
+  EXPECT_EQ(storage->request_cancel("r", 2100), server::CancelOutcome::requested);
+  EXPECT_TRUE(storage->cancel_requested("r"));
+  EXPECT_TRUE(storage->finish_cancelled("r", "w", 2200));
+  EXPECT_EQ(storage->request_cancel("r", 2300), server::CancelOutcome::already_final);
+  EXPECT_EQ(storage->request_cancel("nope", 2300), server::CancelOutcome::not_found);
+}
+
+TEST_P(StorageTest, ResultsAreStoredOnceAndGoWithTheirJob) {
+  auto storage = open();
+  storage->create_job(new_job("a"));
+  ASSERT_TRUE(storage->claim_next("w", 2000, 1000));
+  server::StoredResult result;
+  result.summary_json = "{\"x\":1}";
+  result.stats_json = "{\"steps\":3}";
+  server::StoredBody body;
+  body.name = "b";
+  body.vertices = {0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1};
+  body.triangles = {0, 1, 2};
+  result.bodies = {body};
+  result.frames = {{0.0, {1, 2, 3, 0, 0, 0, 1}}, {0.5, {4, 5, 6, 0, 0, 0, 1}}};
+  ASSERT_TRUE(storage->complete("a", "w", result, 3000));
+  EXPECT_EQ(storage->get_job("a")->stats_json, "{\"steps\":3}");
+  EXPECT_EQ(storage->result_summary("a"), "{\"x\":1}");
+  const auto frames = storage->result_frames("a", 1, 5);
+  ASSERT_EQ(frames.size(), 1u);
+  EXPECT_EQ(frames[0].time_s, 0.5);
+  EXPECT_EQ(frames[0].poses[0], 4.0f);
+  EXPECT_EQ(storage->result_bodies("a")[0].vertices.size(), 12u);
+  EXPECT_TRUE(storage->delete_job("a"));
+  EXPECT_TRUE(storage->result_bodies("a").empty());
+  EXPECT_TRUE(storage->result_frames("a", 0, 5).empty());
+}
+
+TEST_P(StorageTest, PruneDeletesOnlyFinishedJobsPastRetention) {
+  auto storage = open();
+  storage->create_job(new_job("old", 0, 1000));
+  storage->create_job(new_job("waiting", 0, 1000));
+  ASSERT_EQ(storage->claim_next("w", 1000, 1000)->job.id, "old");
+  ASSERT_TRUE(storage->fail("old", "w", "x", "y", 1500));
+  EXPECT_EQ(storage->prune_finished(1400), 0);
+  EXPECT_EQ(storage->prune_finished(2000), 1);
+  EXPECT_FALSE(storage->get_job("old"));
+  EXPECT_TRUE(storage->get_job("waiting"));
+}
+
+TEST_P(StorageTest, ListsNewestFirstByOwnerAndStatusWithACursor) {
+  auto storage = open();
+  for (int i = 0; i < 5; ++i) {
+    auto job = new_job("a" + std::to_string(i));
+    job.owner = "alice";
+    storage->create_job(job);
+    job = new_job("b" + std::to_string(i));
+    job.owner = "bob";
+    storage->create_job(job);
+  }
+  ASSERT_EQ(storage->claim_next("w", 2000, 1000)->job.id, "a0");
+  auto page = storage->list_jobs(std::nullopt, 0, 3, "alice");
+  ASSERT_EQ(page.jobs.size(), 3u);
+  EXPECT_EQ(page.jobs[0].id, "a4");
+  EXPECT_EQ(page.jobs[2].id, "a2");
+  EXPECT_EQ(page.jobs[0].owner, "alice");
+  ASSERT_TRUE(page.cursor);
+  page = storage->list_jobs(std::nullopt, *page.cursor, 3, "alice");
+  ASSERT_EQ(page.jobs.size(), 2u);
+  EXPECT_EQ(page.jobs[1].id, "a0");
+  EXPECT_FALSE(page.cursor);
+  page = storage->list_jobs(JobStatus::running, 0, 10, std::nullopt);
+  ASSERT_EQ(page.jobs.size(), 1u);
+  EXPECT_EQ(page.jobs[0].id, "a0");
+  EXPECT_TRUE(storage->list_jobs(JobStatus::running, 0, 10, "bob").jobs.empty());
+  EXPECT_EQ(storage->list_jobs(JobStatus::queued, 0, 100, std::nullopt).jobs.size(), 9u);
+  EXPECT_EQ(storage->list_jobs(std::nullopt, 0, 100, std::nullopt).jobs.size(), 10u);
+}
+
+TEST_P(StorageTest, IdempotencyKeysAreScopedToTheirOwner) {
+  auto storage = open();
+  auto job = new_job("a");
+  job.owner = "alice";
+  job.idempotency_key = "k";
+  job.request_hash = "h";
+  EXPECT_EQ(storage->create_job(job).outcome, server::CreateOutcome::created);
+  job.id = "b";
+  job.owner = "bob";
+  EXPECT_EQ(storage->create_job(job).outcome, server::CreateOutcome::created);
+  job.id = "c";
+  job.create_if_missing = false;  // a full queue: only the look-up
+  EXPECT_EQ(storage->create_job(job).job.id, "b");
+  job.owner = "carol";
+  EXPECT_EQ(storage->create_job(job).outcome, server::CreateOutcome::not_created);
+  EXPECT_FALSE(storage->get_job("c"));
+}
+
+TEST_P(StorageTest, QueueCountsByStatusOldestAndLastMinute) {
+  auto storage = open();
+  storage->create_job(new_job("a", 0, 1000));
+  storage->create_job(new_job("b", 0, 2000));
+  storage->create_job(new_job("c", 0, 3000));
+  storage->create_job(new_job("d", 0, 4000));
+  ASSERT_EQ(storage->claim_next("w", 70000, 1000)->job.id, "a");
+  ASSERT_TRUE(storage->complete("a", "w", {}, 70000));
+  ASSERT_EQ(storage->claim_next("w", 70000, 100000)->job.id, "b");
+  ASSERT_TRUE(storage->fail("b", "w", "x", "y", 5000));  // finished long before the last minute
+  ASSERT_EQ(storage->claim_next("w", 70000, 100000)->job.id, "c");
+  EXPECT_EQ(storage->count_queued(), 1);
+  const server::QueueCounts counts = storage->queue_counts(100000);
+  EXPECT_EQ(counts.by_status, (std::array<std::int64_t, 5>{1, 1, 1, 1, 0}));
+  EXPECT_EQ(counts.oldest_queued_created_ms, 4000);
+  EXPECT_EQ(counts.finished_last_minute, 1);
+  EXPECT_EQ(storage->queue_counts(200000).finished_last_minute, 0);
+}
+
+TEST_P(StorageTest, RecoveryCancelsAJobWhoseCancelWasRequested) {
+  auto storage = open();
+  storage->create_job(new_job("a"));
+  ASSERT_TRUE(storage->claim_next("dead", 2000, 1000));
+  EXPECT_EQ(storage->request_cancel("a", 2100), server::CancelOutcome::requested);
+  EXPECT_EQ(storage->recover_expired(5000, 3).requeued, 1);
+  const auto job = storage->get_job("a");
+  EXPECT_EQ(job->status, JobStatus::cancelled);
+  EXPECT_EQ(job->finished_ms, 5000);
+  EXPECT_FALSE(storage->claim_next("w", 6000, 1000));
+}
+
+TEST_P(StorageTest, VersionCountsEveryVisibleChange) {
+  auto storage = open();
+  storage->create_job(new_job("a"));
+  EXPECT_EQ(storage->claim_next("w", 2000, 1000)->job.version, 2);
+  ASSERT_TRUE(storage->set_progress("a", "w", 0.25, 2100));
+  ASSERT_TRUE(storage->renew_lease("a", "w", 9000));  // not visible to clients
+  auto job = storage->get_job("a");
+  EXPECT_EQ(job->version, 3);
+  EXPECT_EQ(job->progress, 0.25);
+  EXPECT_EQ(job->started_ms, 2000);
+  EXPECT_FALSE(job->finished_ms);
+  ASSERT_TRUE(storage->fail("a", "w", "timeout", "too long", 3000));
+  job = storage->get_job("a");
+  EXPECT_EQ(job->version, 4);
+  EXPECT_EQ(job->error_type, "timeout");
+  EXPECT_EQ(job->error, "too long");
+  EXPECT_EQ(job->finished_ms, 3000);
+}
+
+TEST_P(StorageTest, AnotherConnectionSeesTheSameJobs) {
+  auto first = open();
+  auto second = open();
+  first->create_job(new_job("a"));
+  ASSERT_TRUE(second->claim_next("w2", 2000, 1000));
+  EXPECT_FALSE(first->claim_next("w1", 2000, 1000));
+  EXPECT_EQ(first->get_job("a")->status, JobStatus::running);
+  EXPECT_TRUE(first->ping());
+}
+
+TEST(SqliteStorage, AnUnwritableLocationIsAStorageError) {
+  server::SqliteOptions options;
+  options.file = "/proc/brisance/jobs.sqlite3";
+  EXPECT_THROW(server::open_sqlite_storage(options), server::StorageError);
+}
+
+// Several stores on one PostgreSQL database stand for several nodes.
+class PostgresStorage : public ::testing::Test {
+ protected:
+  std::unique_ptr<server::Storage> open_node() {
+    server::PostgresOptions options;
+    options.conninfo = url_;
+    return server::open_postgres_storage(options);
+  }
+  std::string url_ = shared_postgres().create_database();
+};
+
+TEST_F(PostgresStorage, MigrationsRunOnceWhenNodesStartTogether) {
+  std::vector<std::thread> threads;
+  std::atomic<int> opened{0};
+  for (int i = 0; i < 4; ++i) {
+    threads.emplace_back([&] {
+      if (open_node()) ++opened;
+    });
+  }
+  for (auto& thread : threads)
+    thread.join();
+  EXPECT_EQ(opened, 4);
+  server::pg::Connection c(url_);
+  const auto r = c.exec("SELECT version FROM schema_migrations ORDER BY version");
+  ASSERT_EQ(r.rows(), server::postgres_schema_version());
+  for (int row = 0; row < r.rows(); ++row)
+    EXPECT_EQ(r.int64(row, 0), row + 1);
+}
+
+TEST_F(PostgresStorage, NodesClaimingAtOnceNeverTakeAJobTwice) {
+  auto first = open_node();
+  for (int i = 0; i < 300; ++i)
+    first->create_job(new_job("j" + std::to_string(i), i % 7));
+  std::vector<std::unique_ptr<server::Storage>> nodes;
+  for (int n = 0; n < 3; ++n)
+    nodes.push_back(open_node());
+  std::mutex mutex;
+  std::multiset<std::string> claimed;
+  std::vector<std::thread> threads;
+  for (int t = 0; t < 6; ++t) {
+    threads.emplace_back([&, t] {
+      server::Storage& node = *nodes[static_cast<std::size_t>(t % 3)];
+      while (auto job = node.claim_next("w" + std::to_string(t), 2000, 60000)) {
+        std::lock_guard lock(mutex);
+        claimed.insert(job->job.id);
+      }
+    });
+  }
+  for (auto& thread : threads)
+    thread.join();
+  EXPECT_EQ(claimed.size(), 300u);
+  EXPECT_EQ(std::set<std::string>(claimed.begin(), claimed.end()).size(), 300u);
+  EXPECT_EQ(first->queue_counts(3000).by_status[1], 300);
+}
+
+// What another node does reaches this node's listener: a queued job wakes its workers, a
+// finished one its long-polls.
+TEST_F(PostgresStorage, ChangesOnOneNodeAreHeardOnAnother) {
+  auto here = open_node();
+  auto there = open_node();
+  std::mutex mutex;
+  std::condition_variable changed;
+  std::vector<std::string> ids;
+  int queued = 0;
+  here->watch(
+      [&](const std::string& id) {
+        std::lock_guard lock(mutex);
+        ids.push_back(id);
+        changed.notify_all();
+      },
+      [&] {
+        std::lock_guard lock(mutex);
+        ++queued;
+        changed.notify_all();
+      });
+  auto wait_for = [&](auto predicate) {
+    std::unique_lock lock(mutex);
+    return changed.wait_for(lock, std::chrono::seconds(20), predicate);
+  };
+  // The listener reports work once connected (notifications sent before are lost).
+  ASSERT_TRUE(wait_for([&] { return queued >= 1; }));
+  const int before = queued;
+  there->create_job(new_job("a"));
+  EXPECT_TRUE(wait_for([&] { return queued > before; }));
+  ASSERT_TRUE(there->claim_next("w", 2000, 1000));
+  ASSERT_TRUE(there->complete("a", "w", {}, 3000));
+  EXPECT_TRUE(wait_for([&] { return std::count(ids.begin(), ids.end(), "a") >= 2; }));
+  here->watch({}, {});
+}
+
+TEST_F(PostgresStorage, AnUnreachableServerIsAStorageErrorAndPingSaysSo) {
+  server::PostgresOptions options;
+  options.conninfo = "postgresql://brisance@127.0.0.1:1/none?connect_timeout=2";
+  EXPECT_THROW(server::open_postgres_storage(options), server::StorageError);
+}
+
+TEST_F(PostgresStorage, ADatabaseRestartIsSurvived) {
+  auto storage = open_node();
+  storage->create_job(new_job("a"));
+  EXPECT_TRUE(storage->ping());
+  shared_postgres().stop();
+  EXPECT_FALSE(storage->ping());
+  EXPECT_THROW(storage->get_job("a"), server::StorageError);
+  shared_postgres().start();
+  // Reconnection waits out the backoff; the store answers again within it.
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(30);
+  while (!storage->ping() && std::chrono::steady_clock::now() < deadline)
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  ASSERT_TRUE(storage->ping());
+  ASSERT_TRUE(storage->get_job("a"));
+  EXPECT_EQ(storage->claim_next("w", 2000, 1000)->job.id, "a");
+}
+
+}  // namespace
+}  // namespace brisance::testing

@@ -1,4 +1,5 @@
-// `brisance serve`: the job service — HTTP API, durable queue and worker pool on one SQLite file.
+// `brisance serve`: the job service — HTTP API, durable queue and worker pool on one SQLite file
+// (the default) or on PostgreSQL shared by several nodes (--store postgres://…).
 // `brisance api-key`: makes a key for --api-keys.
 #include <cmath>
 #include <cstdlib>
@@ -19,6 +20,7 @@
 #include "server/job_service.hpp"
 #include "server/log.hpp"
 #include "server/metrics.hpp"
+#include "server/pg_storage.hpp"
 #include "server/sqlite_storage.hpp"
 #include "server/static_files.hpp"
 #include "server/worker_pool.hpp"
@@ -27,15 +29,18 @@ namespace brisance::cli {
 namespace {
 
 constexpr std::string_view kHelp =
-    "usage: brisance serve [--bind ADDR] [--port N] [--data DIR] [--workers N] [--max-queue N]\n"
-    "                      [--api-keys FILE] [options]\n"
+    "usage: brisance serve [--bind ADDR] [--port N] [--data DIR | --store URL] [--workers N]\n"
+    "                      [--max-queue N] [--api-keys FILE] [options]\n"
     "\n"
     "Runs the job service: the HTTP/JSON API under /v1, the durable job queue and the simulation\n"
-    "workers, on an SQLite store in DIR. Every flag can also be set by the environment variable\n"
-    "in brackets; a flag wins over the variable.\n"
+    "workers, on an SQLite store in DIR, or on PostgreSQL (--store postgres://…) shared by any\n"
+    "number of nodes. Every flag can also be set by the environment variable in brackets; a flag\n"
+    "wins over the variable.\n"
     "  --bind ADDR          address to listen on (default 127.0.0.1)         [BRISANCE_BIND]\n"
     "  --port N             TCP port, 0 for any free one (default 8080)       [BRISANCE_PORT]\n"
-    "  --data DIR           where the database lives (default ./data)        [BRISANCE_DATA]\n"
+    "  --data DIR           where the SQLite database lives (default ./data) [BRISANCE_DATA]\n"
+    "  --store URL          postgres://user:pass@host:port/db: the PostgreSQL [BRISANCE_STORE]\n"
+    "                       store instead of SQLite (default: sqlite, in DIR)\n"
     "  --workers N          simulation threads (default: cores, at least 1)  [BRISANCE_WORKERS]\n"
     "  --max-queue N        queued jobs at which POST gets 429 (10000)        "
     "[BRISANCE_MAX_QUEUE]\n"
@@ -104,6 +109,16 @@ double number_setting(const ParsedFlags& flags, std::string_view flag, const cha
   return value;
 }
 
+// A postgres:// URL with its password (user:PASSWORD@) masked, for the logs.
+std::string without_password(const std::string& url) {
+  const auto scheme = url.find("://");
+  const auto at = url.find('@', scheme == std::string::npos ? 0 : scheme);
+  if (scheme == std::string::npos || at == std::string::npos) return url;
+  const auto colon = url.find(':', scheme + 3);
+  if (colon == std::string::npos || colon > at) return url;
+  return url.substr(0, colon + 1) + "***" + url.substr(at);
+}
+
 }  // namespace
 
 int run_serve(const Args& args, std::ostream& out) {
@@ -111,6 +126,7 @@ int run_serve(const Args& args, std::ostream& out) {
                           {{"bind"},
                            {"port"},
                            {"data"},
+                           {"store"},
                            {"workers"},
                            {"max-queue"},
                            {"api-keys"},
@@ -147,6 +163,13 @@ int run_serve(const Args& args, std::ostream& out) {
       number_setting(flags, "body-limit-mb", "BRISANCE_BODY_LIMIT_MB", 16, 0.001, 4096) * 1024 *
       1024);
 
+  const std::string store_setting = setting(flags, "store", "BRISANCE_STORE").value_or("sqlite");
+  const bool postgres = is_postgres_url(store_setting);
+  if (!postgres && store_setting != "sqlite") {
+    flags.fail("--store must be 'sqlite' or a postgres:// URL, got '" + store_setting + "'");
+  }
+  PostgresOptions pg_store;
+  pg_store.conninfo = store_setting;
   SqliteOptions store;
   store.file = std::filesystem::path(setting(flags, "data", "BRISANCE_DATA").value_or("data")) /
                "brisance.sqlite3";
@@ -206,7 +229,7 @@ int run_serve(const Args& args, std::ostream& out) {
 
   std::unique_ptr<Storage> storage;
   try {
-    storage = open_sqlite_storage(store);
+    storage = postgres ? open_postgres_storage(pg_store) : open_sqlite_storage(store);
   } catch (const StorageError& error) {
     std::cerr << "brisance serve: " << error.what() << "\n";
     return kExitInternal;
@@ -216,10 +239,12 @@ int run_serve(const Args& args, std::ostream& out) {
   WorkerPool pool(service, metrics, workers);
   ApiOptions api_options;
   api_options.body_limit_bytes = http.body_limit_bytes;
-  api_options.free_space = std::make_shared<FreeSpace>(
-      store.file.parent_path(),
-      static_cast<std::uint64_t>(
-          number_setting(flags, "min-free-mb", "BRISANCE_MIN_FREE_MB", 256, 0, 1e9) * 1024 * 1024));
+  const auto min_free_bytes = static_cast<std::uint64_t>(
+      number_setting(flags, "min-free-mb", "BRISANCE_MIN_FREE_MB", 256, 0, 1e9) * 1024 * 1024);
+  // PostgreSQL's disk is the database server's to watch, not this node's.
+  if (!postgres) {
+    api_options.free_space = std::make_shared<FreeSpace>(store.file.parent_path(), min_free_bytes);
+  }
   StaticFiles web(setting(flags, "web-dir", "BRISANCE_WEB_DIR").value_or(BRISANCE_WEB_DIR));
   if (web.available()) {
     api_options.static_file = [&web](std::string_view path) { return web.get(path); };
@@ -245,9 +270,10 @@ int run_serve(const Args& args, std::ostream& out) {
   log_event(LogLevel::info, "listening",
             {{"url", "http://" + http.bind + ":" + std::to_string(server.port())},
              {"port", server.port()},
-             {"database", store.file.string()},
+             {"database", postgres ? without_password(store_setting) : store.file.string()},
              {"workers", workers.workers},
              {"api_keys", keys.size()},
+             {"store", postgres ? "postgres" : "sqlite"},
              {"synchronous", sync},
              {"dashboard", web.available()}});
 

@@ -38,6 +38,61 @@ constexpr std::size_t kFramesPerInsert = 1000;
   "updated_ms, started_ms, finished_ms, error_type, error, stats, owner"
 constexpr int kJobColumnCount = 16;
 
+// Whether PostgreSQL can hold `text` in a text column: valid UTF-8 (the database encoding) and no
+// NUL (libpq passes text parameters as C strings). SQLite stores any bytes, so a client's bytes
+// that PostgreSQL cannot hold are handled here, the same way for both stores: an id or owner that
+// is not storable names no job, and an idempotency key that is not storable is stored encoded.
+bool storable(std::string_view text) {
+  for (std::size_t i = 0; i < text.size();) {
+    const auto c = static_cast<unsigned char>(text[i]);
+    if (c == 0) return false;
+    if (c < 0x80) {
+      ++i;
+      continue;
+    }
+    std::size_t length = 0;
+    std::uint32_t code = 0;
+    if ((c & 0xE0) == 0xC0) {
+      length = 2;
+      code = c & 0x1F;
+    } else if ((c & 0xF0) == 0xE0) {
+      length = 3;
+      code = c & 0x0F;
+    } else if ((c & 0xF8) == 0xF0) {
+      length = 4;
+      code = c & 0x07;
+    } else {
+      return false;
+    }
+    if (i + length > text.size()) return false;
+    for (std::size_t k = 1; k < length; ++k) {
+      const auto next = static_cast<unsigned char>(text[i + k]);
+      if ((next & 0xC0) != 0x80) return false;
+      code = (code << 6) | (next & 0x3F);
+    }
+    // Overlong forms, UTF-16 surrogates and code points beyond U+10FFFF are not UTF-8.
+    constexpr std::uint32_t kMin[] = {0, 0, 0x80, 0x800, 0x10000};
+    if (code < kMin[length] || (code >= 0xD800 && code <= 0xDFFF) || code > 0x10FFFF) {
+      return false;
+    }
+    i += length;
+  }
+  return true;
+}
+
+// A key PostgreSQL can store for any bytes: itself when storable, else a line feed (which no
+// HTTP header holds, so no storable key looks like it) and its bytes in hex.
+std::string storable_key(std::string_view key) {
+  if (storable(key)) return std::string(key);
+  static constexpr char kHex[] = "0123456789abcdef";
+  std::string out = "\n~";
+  for (const char byte : key) {
+    out.push_back(kHex[static_cast<unsigned char>(byte) >> 4]);
+    out.push_back(kHex[static_cast<unsigned char>(byte) & 0xF]);
+  }
+  return out;
+}
+
 JobRecord read_job(const pg::Result& r, int row) {
   JobRecord j;
   j.id = std::string(r.text(row, 0));
@@ -80,8 +135,8 @@ class PgStorage final : public Storage {
 
   CreateResult create_job(const NewJob& job) override {
     // Idempotency keys are the owner's own (as on SQLite): the owner's name prefixes the key.
-    const std::string scoped_key =
-        job.owner.empty() ? job.idempotency_key : job.owner + "\n" + job.idempotency_key;
+    const std::string scoped_key = storable_key(
+        job.owner.empty() ? job.idempotency_key : job.owner + "\n" + job.idempotency_key);
     return with_connection([&](pg::Connection& c) -> CreateResult {
       auto existing = [&]() -> std::optional<CreateResult> {
         const pg::Result r =
@@ -131,6 +186,7 @@ class PgStorage final : public Storage {
   }
 
   std::optional<JobRecord> get_job(std::string_view id) override {
+    if (!storable(id)) return std::nullopt;
     return with_connection([&](pg::Connection& c) -> std::optional<JobRecord> {
       const pg::Result r =
           c.exec("SELECT " JOB_COLUMNS " FROM jobs WHERE id = $1", pg::Params().add(id));
@@ -141,6 +197,7 @@ class PgStorage final : public Storage {
 
   JobPage list_jobs(std::optional<JobStatus> status, std::int64_t before_seq, int limit,
                     std::optional<std::string_view> owner) override {
+    if (owner && !storable(*owner)) return {};
     pg::Params params;
     params.add(before_seq > 0 ? before_seq : INT64_MAX);
     std::string sql = "SELECT " JOB_COLUMNS " FROM jobs WHERE seq < $1";
@@ -213,23 +270,24 @@ class PgStorage final : public Storage {
   }
 
   bool renew_lease(std::string_view id, std::string_view owner, std::int64_t until_ms) override {
-    return owned_update(
-        "UPDATE jobs SET lease_expires_ms = $3 WHERE id = $1 AND lease_owner = $2 "
-        "AND status = 'running'",
-        pg::Params().add(id).add(owner).add(until_ms));
+    return owned_update(id, owner,
+                        "UPDATE jobs SET lease_expires_ms = $3 WHERE id = $1 AND lease_owner = $2 "
+                        "AND status = 'running'",
+                        pg::Params().add(id).add(owner).add(until_ms));
   }
 
   bool set_progress(std::string_view id, std::string_view owner, double progress,
                     std::int64_t now_ms) override {
-    return owned_update(
-        "UPDATE jobs SET progress = $3, updated_ms = $4, version = version + 1 "
-        "WHERE id = $1 AND lease_owner = $2 AND status = 'running' "
-        "RETURNING pg_notify('brisance_jobs', id)",
-        pg::Params().add(id).add(owner).add(progress).add(now_ms));
+    return owned_update(id, owner,
+                        "UPDATE jobs SET progress = $3, updated_ms = $4, version = version + 1 "
+                        "WHERE id = $1 AND lease_owner = $2 AND status = 'running' "
+                        "RETURNING pg_notify('brisance_jobs', id)",
+                        pg::Params().add(id).add(owner).add(progress).add(now_ms));
   }
 
   bool complete(std::string_view id, std::string_view owner, const StoredResult& result,
                 std::int64_t now_ms) override {
+    if (!storable(id) || !storable(owner)) return false;
     return with_connection([&](pg::Connection& c) {
       pg::Transaction tx(c);
       std::int64_t seq = 0;
@@ -283,6 +341,7 @@ class PgStorage final : public Storage {
   bool fail(std::string_view id, std::string_view owner, std::string_view error_type,
             std::string_view message, std::int64_t now_ms) override {
     return owned_update(
+        id, owner,
         "UPDATE jobs SET status = 'failed', finished_ms = $3, updated_ms = $3, "
         "version = version + 1, lease_owner = NULL, lease_expires_ms = NULL, error_type = $4, "
         "error = $5 WHERE id = $1 AND lease_owner = $2 AND status = 'running' "
@@ -291,16 +350,17 @@ class PgStorage final : public Storage {
   }
 
   bool finish_cancelled(std::string_view id, std::string_view owner, std::int64_t now_ms) override {
-    return owned_update(
-        "UPDATE jobs SET status = 'cancelled', finished_ms = $3, updated_ms = $3, "
-        "version = version + 1, lease_owner = NULL, lease_expires_ms = NULL "
-        "WHERE id = $1 AND lease_owner = $2 AND status = 'running' "
-        "RETURNING pg_notify('brisance_jobs', id)",
-        pg::Params().add(id).add(owner).add(now_ms));
+    return owned_update(id, owner,
+                        "UPDATE jobs SET status = 'cancelled', finished_ms = $3, updated_ms = $3, "
+                        "version = version + 1, lease_owner = NULL, lease_expires_ms = NULL "
+                        "WHERE id = $1 AND lease_owner = $2 AND status = 'running' "
+                        "RETURNING pg_notify('brisance_jobs', id)",
+                        pg::Params().add(id).add(owner).add(now_ms));
   }
 
   bool release(std::string_view id, std::string_view owner, std::int64_t now_ms) override {
     return owned_update(
+        id, owner,
         "UPDATE jobs SET status = 'queued', progress = 0, started_ms = NULL, updated_ms = $3, "
         "version = version + 1, lease_owner = NULL, lease_expires_ms = NULL, "
         "attempts = greatest(attempts - 1, 0) "
@@ -310,6 +370,7 @@ class PgStorage final : public Storage {
   }
 
   bool cancel_requested(std::string_view id) override {
+    if (!storable(id)) return true;  // no such job: as deleted
     return with_connection([&](pg::Connection& c) {
       const pg::Result r =
           c.exec("SELECT cancel_requested FROM jobs WHERE id = $1", pg::Params().add(id));
@@ -318,6 +379,7 @@ class PgStorage final : public Storage {
   }
 
   CancelOutcome request_cancel(std::string_view id, std::int64_t now_ms) override {
+    if (!storable(id)) return CancelOutcome::not_found;
     return with_connection([&](pg::Connection& c) {
       pg::Transaction tx(c);
       JobStatus status;
@@ -348,7 +410,8 @@ class PgStorage final : public Storage {
   }
 
   bool delete_job(std::string_view id) override {
-    return owned_update("DELETE FROM jobs WHERE id = $1 RETURNING pg_notify('brisance_jobs', id)",
+    return owned_update(id, "",
+                        "DELETE FROM jobs WHERE id = $1 RETURNING pg_notify('brisance_jobs', id)",
                         pg::Params().add(id));
   }
 
@@ -362,6 +425,7 @@ class PgStorage final : public Storage {
   }
 
   std::vector<StoredBody> result_bodies(std::string_view id) override {
+    if (!storable(id)) return {};
     return with_connection([&](pg::Connection& c) {
       const pg::Result r = c.exec(
           "SELECT b.name, b.mass_kg, b.animated, b.initial_pose, b.vertices, b.triangles "
@@ -386,6 +450,7 @@ class PgStorage final : public Storage {
 
   std::vector<StoredFrame> result_frames(std::string_view id, std::int64_t from,
                                          std::int64_t to) override {
+    if (!storable(id)) return {};
     return with_connection([&](pg::Connection& c) {
       const pg::Result r = c.exec(
           "SELECT f.time_s, f.poses FROM job_frames f JOIN jobs j ON j.seq = f.job_seq "
@@ -445,6 +510,7 @@ class PgStorage final : public Storage {
   }
 
   std::int64_t expire_leases(std::string_view owner) override {
+    if (!storable(owner)) return 0;
     return with_connection([&](pg::Connection& c) {
       return c
           .exec(
@@ -562,8 +628,10 @@ class PgStorage final : public Storage {
     }
   }
 
-  // One conditional UPDATE/DELETE: true when it touched a row.
-  bool owned_update(const char* sql, const pg::Params& params) {
+  // One conditional UPDATE/DELETE of job `id` (held by `owner`): true when it touched a row.
+  bool owned_update(std::string_view id, std::string_view owner, const char* sql,
+                    const pg::Params& params) {
+    if (!storable(id) || !storable(owner)) return false;
     return with_connection([&](pg::Connection& c) {
       const pg::Result r = c.exec(sql, params);
       return r.affected() > 0;
@@ -571,6 +639,7 @@ class PgStorage final : public Storage {
   }
 
   std::optional<std::string> text_column(const char* sql, std::string_view id) {
+    if (!storable(id)) return std::nullopt;
     return with_connection([&](pg::Connection& c) -> std::optional<std::string> {
       const pg::Result r = c.exec(sql, pg::Params().add(id));
       if (r.rows() == 0) return std::nullopt;

@@ -333,5 +333,28 @@ TEST_F(MultiNode, ADatabaseRestartUnderLoadLosesNothingAccepted) {
     EXPECT_EQ(node->signal_and_wait(SIGTERM, std::chrono::seconds(30)), 0) << node->log();
 }
 
+// Two in-process nodes without workers on one database: a long-poll parked on one is answered
+// when the job changes through the other (its NOTIFY), not at the poll's 30 s deadline.
+TEST(MultiNodeInProcess, ALongPollOnOneNodeIsAnsweredByAChangeOnAnother) {
+  TestServerOptions options = with_workers(0);
+  options.postgres_url = shared_postgres().create_database();
+  TestServer here(options);
+  TestServer there(options);
+  const auto r = here.request("POST", "/v1/jobs", job_body(quick_scene()));
+  ASSERT_EQ(r.status, 202) << r.body;
+  const std::string id = json::parse(r.body).at("id");
+  std::thread canceller([&] {
+    std::this_thread::sleep_for(std::chrono::milliseconds(500));
+    EXPECT_EQ(there.request("POST", "/v1/jobs/" + id + "/cancel").status,
+              200);  // a queued job: cancelled at once
+  });
+  const auto start = Clock::now();
+  const ClientResponse woken = here.request("GET", "/v1/jobs/" + id + "?wait=30");
+  const double woken_s = std::chrono::duration<double>(Clock::now() - start).count();
+  canceller.join();
+  EXPECT_EQ(json::parse(woken.body).at("status"), "cancelled");
+  EXPECT_LT(woken_s, 10.0);
+}
+
 }  // namespace
 }  // namespace brisance::testing

@@ -27,7 +27,7 @@
 #include <unistd.h>
 
 #include "server/pg.hpp"
-#include "tests/server/test_server.hpp"
+#include "tests/server/temp_dir.hpp"
 
 extern char** environ;
 

@@ -338,6 +338,31 @@ TEST_P(StorageTest, AnotherConnectionSeesTheSameJobs) {
   EXPECT_TRUE(first->ping());
 }
 
+// Clients send any bytes (ids in paths, keys in headers): those that are not UTF-8, or hold a
+// NUL, name no job and work as keys, on both stores.
+TEST_P(StorageTest, AnyBytesNameNoJobAndServeAsKeys) {
+  auto storage = open();
+  storage->create_job(new_job("a"));
+  for (const std::string& id : {std::string("\xff\xfe"), std::string("a\0b", 3),
+                                std::string("\xc3\x28"), std::string("\xed\xa0\x80")}) {
+    EXPECT_FALSE(storage->get_job(id));
+    EXPECT_FALSE(storage->scene(id));
+    EXPECT_EQ(storage->request_cancel(id, 2000), server::CancelOutcome::not_found);
+    EXPECT_FALSE(storage->delete_job(id));
+    EXPECT_TRUE(storage->result_frames(id, 0, 10).empty());
+  }
+  EXPECT_TRUE(storage->list_jobs(std::nullopt, 0, 10, std::string("\xff")).jobs.empty());
+  auto job = new_job("b");
+  job.idempotency_key = "\xff";
+  job.request_hash = "h";
+  EXPECT_EQ(storage->create_job(job).outcome, server::CreateOutcome::created);
+  job.id = "c";
+  EXPECT_EQ(storage->create_job(job).job.id, "b");
+  job.idempotency_key = "\xfe";
+  EXPECT_EQ(storage->create_job(job).outcome, server::CreateOutcome::created);
+  EXPECT_TRUE(storage->get_job("a"));
+}
+
 TEST(SqliteStorage, AnUnwritableLocationIsAStorageError) {
   server::SqliteOptions options;
   options.file = "/proc/brisance/jobs.sqlite3";

@@ -1,10 +1,11 @@
-// tests/server/test_server: a real server in-process — SQLite file in a fresh temporary folder,
-// worker pool, Beast transport on an ephemeral port — and the scenes the server tests submit.
+// tests/server/test_server: a real server in-process — SQLite file in a fresh temporary folder
+// (or a fresh PostgreSQL database, see TestServerOptions::postgres), worker pool, Beast transport
+// on an ephemeral port — and the scenes the server tests submit.
 #pragma once
 
+#include <cstdlib>
 #include <filesystem>
 #include <memory>
-#include <random>
 #include <string>
 
 #include <nlohmann/json.hpp>
@@ -13,32 +14,19 @@
 #include "server/http_server.hpp"
 #include "server/job_service.hpp"
 #include "server/metrics.hpp"
+#include "server/pg_storage.hpp"
 #include "server/sqlite_storage.hpp"
 #include "server/worker_pool.hpp"
 #include "tests/server/http_client.hpp"
+#include "tests/server/postgres_fixture.hpp"
+#include "tests/server/temp_dir.hpp"
 
 namespace brisance::testing {
 
-// A folder under the system temp dir, removed on destruction.
-class TempDir {
- public:
-  TempDir() {
-    std::random_device device;
-    path_ = std::filesystem::temp_directory_path() /
-            ("brisance-test-" + std::to_string(device()) + std::to_string(device()));
-    std::filesystem::create_directories(path_);
-  }
-  ~TempDir() {
-    std::error_code ignored;
-    std::filesystem::remove_all(path_, ignored);
-  }
-  TempDir(const TempDir&) = delete;
-  TempDir& operator=(const TempDir&) = delete;
-  const std::filesystem::path& path() const { return path_; }
-
- private:
-  std::filesystem::path path_;
-};
+inline bool test_store_is_postgres() {
+  const char* store = std::getenv("BRISANCE_TEST_STORE");
+  return store && std::string_view(store) == "postgres";
+}
 
 struct TestServerOptions {
   int workers = 1;
@@ -50,6 +38,11 @@ struct TestServerOptions {
   std::int64_t max_db_bytes = 0;  // 0: no limit (see SqliteOptions::max_size_bytes)
   std::chrono::milliseconds store_failure_pause{5000};
   std::uint64_t min_free_bytes = 0;  // the data folder's free-space floor; 0: not checked
+  // The store: SQLite unless BRISANCE_TEST_STORE=postgres (CTest runs the API suite both ways),
+  // then a new database on the test program's PostgreSQL server, or `postgres_url` when given
+  // (several servers on one database stand for several nodes).
+  bool postgres = test_store_is_postgres();
+  std::string postgres_url;
 };
 
 inline TestServerOptions with_workers(int workers) {
@@ -61,10 +54,17 @@ inline TestServerOptions with_workers(int workers) {
 class TestServer {
  public:
   explicit TestServer(TestServerOptions options = {}) {
-    server::SqliteOptions store;
-    store.file = dir_.path() / "brisance.sqlite3";
-    store.max_size_bytes = options.max_db_bytes;
-    storage_ = server::open_sqlite_storage(store);
+    if (options.postgres || !options.postgres_url.empty()) {
+      server::PostgresOptions store;
+      store.conninfo =
+          options.postgres_url.empty() ? shared_postgres().create_database() : options.postgres_url;
+      storage_ = server::open_postgres_storage(store);
+    } else {
+      server::SqliteOptions store;
+      store.file = dir_.path() / "brisance.sqlite3";
+      store.max_size_bytes = options.max_db_bytes;
+      storage_ = server::open_sqlite_storage(store);
+    }
     server::ServiceOptions service_options;
     service_options.max_queue = options.max_queue;
     service_ = std::make_unique<server::JobService>(*storage_, service_options);

@@ -298,6 +298,9 @@ TEST_F(MultiNode, ADatabaseRestartUnderLoadLosesNothingAccepted) {
     EXPECT_EQ(r.status, 503) << r.body;
     EXPECT_NE(r.body.find("\"database\":\"unreachable\""), std::string::npos) << r.body;
   }
+  const auto refused = http_request(ports[0], "POST", "/v1/jobs", job_body(quick_scene()));
+  EXPECT_EQ(refused.status, 503) << refused.body;
+  EXPECT_NE(refused.body.find("storage-unavailable"), std::string::npos) << refused.body;
   submit_some(30);  // refused while the database is down: not accepted, not counted
   shared_postgres().start();
 

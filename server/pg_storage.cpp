@@ -467,6 +467,9 @@ class PgStorage final : public Storage {
     });
   }
 
+  // Every node's keeper runs this every few seconds: rows another keeper (or a worker finishing
+  // its job) holds are skipped, not waited on, so keepers never wait on or deadlock with each
+  // other; the next tick takes what was skipped.
   RecoveryReport recover_expired(std::int64_t now_ms, int max_attempts) override {
     return with_connection([&](pg::Connection& c) {
       pg::Transaction tx(c);
@@ -477,7 +480,9 @@ class PgStorage final : public Storage {
                "version = version + 1, lease_owner = NULL, lease_expires_ms = NULL, "
                "error_type = 'worker_lost', error = 'the worker running this job stopped "
                "(crashed or was killed) ' || attempts || ' times; the job is not retried again' "
+               "WHERE status = 'running' AND seq IN (SELECT seq FROM jobs "
                "WHERE status = 'running' AND lease_expires_ms < $1 AND attempts >= $2 "
+               "FOR UPDATE SKIP LOCKED) "
                "RETURNING pg_notify('brisance_jobs', id)",
                pg::Params().add(now_ms).add(max_attempts))
               .rows();
@@ -488,7 +493,8 @@ class PgStorage final : public Storage {
                "'queued' END, finished_ms = CASE WHEN cancel_requested THEN $1::bigint END, "
                "progress = 0, started_ms = NULL, updated_ms = $1, version = version + 1, "
                "lease_owner = NULL, lease_expires_ms = NULL "
-               "WHERE status = 'running' AND lease_expires_ms < $1 "
+               "WHERE status = 'running' AND seq IN (SELECT seq FROM jobs "
+               "WHERE status = 'running' AND lease_expires_ms < $1 FOR UPDATE SKIP LOCKED) "
                "RETURNING pg_notify('brisance_jobs', id), pg_notify('brisance_queue', '')",
                pg::Params().add(now_ms))
               .rows();

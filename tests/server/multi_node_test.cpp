@@ -273,6 +273,8 @@ TEST_F(MultiNode, EveryJobRunsOnceOnOneNodeAtATimeThroughAKillNine) {
 }
 
 TEST_F(MultiNode, ADatabaseRestartUnderLoadLosesNothingAccepted) {
+  PostgresServer own;  // stopped and started here: not the shared one
+  url_ = own.create_database();
   std::vector<std::unique_ptr<ServerProcess>> nodes;
   std::vector<std::uint16_t> ports;
   for (int n = 0; n < 3; ++n)
@@ -292,7 +294,7 @@ TEST_F(MultiNode, ADatabaseRestartUnderLoadLosesNothingAccepted) {
   submit_some(kJobs / 3);
   EXPECT_EQ(static_cast<int>(accepted.size()), kJobs / 3);
 
-  shared_postgres().stop();
+  own.stop();
   for (const std::uint16_t port : ports) {
     const auto r = http_request(port, "GET", "/readyz");
     EXPECT_EQ(r.status, 503) << r.body;
@@ -302,7 +304,7 @@ TEST_F(MultiNode, ADatabaseRestartUnderLoadLosesNothingAccepted) {
   EXPECT_EQ(refused.status, 503) << refused.body;
   EXPECT_NE(refused.body.find("storage-unavailable"), std::string::npos) << refused.body;
   submit_some(30);  // refused while the database is down: not accepted, not counted
-  shared_postgres().start();
+  own.start();
 
   // The nodes reconnect (with backoff) and report ready again.
   for (const std::uint16_t port : ports) {

@@ -9,6 +9,7 @@
 #pragma once
 
 #include <chrono>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -35,6 +36,19 @@ namespace brisance::testing {
 
 class PostgresServer {
  public:
+  // The server CTest's `postgres` fixture started (tests/server/postgres_server.sh), found by the
+  // folder it was started in: not stopped by this process.
+  struct Attach {
+    std::filesystem::path dir;
+  };
+  explicit PostgresServer(const Attach& attach) {
+    std::ifstream in(attach.dir / "port");
+    if (!(in >> port_)) {
+      throw std::runtime_error("no shared PostgreSQL server in " + attach.dir.string() +
+                               " (its fixture, postgres.server.start, did not run)");
+    }
+  }
+
   PostgresServer() {
     if (std::string(BRISANCE_PG_BINDIR).empty()) {
       throw std::runtime_error(
@@ -57,8 +71,16 @@ class PostgresServer {
                       "--auth=trust", "--no-sync", "-E", "UTF8", "--no-instructions"},
                      dir_.path() / "initdb.log");
     if (rc != 0) throw std::runtime_error("initdb failed: " + read(dir_.path() / "initdb.log"));
-    port_ = free_port();
-    start();
+    // The free port may be taken by another test's server before ours binds it: then another.
+    for (int attempt = 1;; ++attempt) {
+      port_ = free_port();
+      try {
+        start();
+        return;
+      } catch (const std::runtime_error&) {
+        if (attempt == 3) throw;
+      }
+    }
   }
   ~PostgresServer() { stop(); }
   PostgresServer(const PostgresServer&) = delete;
@@ -70,7 +92,9 @@ class PostgresServer {
   }
   // A new, empty database; its URL.
   std::string create_database() {
-    const std::string name = "t" + std::to_string(next_database_++);
+    // Unique across the test programs sharing one server.
+    const std::string name =
+        "t" + std::to_string(getpid()) + "_" + std::to_string(next_database_++);
     server::pg::Connection c(url("postgres"));
     c.exec(("CREATE DATABASE " + name).c_str());
     return url(name);
@@ -78,7 +102,7 @@ class PostgresServer {
 
   // Fast shutdown (SIGINT): open connections are cut, as in a database restart.
   void stop() {
-    if (pid_ <= 0) return;
+    if (pid_ <= 0) return;  // not started here (or stopped already)
     kill(pid_, SIGINT);
     waitpid(pid_, nullptr, 0);
     pid_ = 0;
@@ -103,6 +127,7 @@ class PostgresServer {
           throw std::runtime_error("postgres exited: " + read(dir_.path() / "postgres.log"));
         }
         if (std::chrono::steady_clock::now() > deadline) {
+          stop();
           throw std::runtime_error(std::string("postgres did not start: ") + error.what());
         }
       }
@@ -173,9 +198,13 @@ class PostgresServer {
   int next_database_ = 1;
 };
 
-// One server for the whole test program, started on first use.
+// One server for the test program: the one CTest's fixture started (BRISANCE_TEST_PG_DIR), else
+// one of its own, started on first use. Tests that stop and start the server make their own.
 inline PostgresServer& shared_postgres() {
-  static PostgresServer server;
+  static PostgresServer server = [] {
+    const char* dir = std::getenv("BRISANCE_TEST_PG_DIR");
+    return dir && *dir ? PostgresServer(PostgresServer::Attach{dir}) : PostgresServer();
+  }();
   return server;
 }
 

@@ -465,14 +465,17 @@ TEST_F(PostgresStorage, AnUnreachableServerIsAStorageErrorAndPingSaysSo) {
   EXPECT_THROW(server::open_postgres_storage(options), server::StorageError);
 }
 
-TEST_F(PostgresStorage, ADatabaseRestartIsSurvived) {
-  auto storage = open_node();
+TEST(PostgresRestart, ADatabaseRestartIsSurvived) {
+  PostgresServer own;  // stopped and started here: not the shared one
+  server::PostgresOptions options;
+  options.conninfo = own.create_database();
+  auto storage = server::open_postgres_storage(options);
   storage->create_job(new_job("a"));
   EXPECT_TRUE(storage->ping());
-  shared_postgres().stop();
+  own.stop();
   EXPECT_FALSE(storage->ping());
   EXPECT_THROW(storage->get_job("a"), server::StorageError);
-  shared_postgres().start();
+  own.start();
   // Reconnection waits out the backoff; the store answers again within it.
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(30);
   while (!storage->ping() && std::chrono::steady_clock::now() < deadline)

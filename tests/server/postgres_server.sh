@@ -1,7 +1,7 @@
 #!/bin/sh
 # The PostgreSQL server CTest's `postgres` fixture shares between the test programs:
 #   postgres_server.sh start DIR BINDIR   initdb into DIR, start on a free port, write DIR/port
-#   postgres_server.sh stop DIR           fast shutdown, remove DIR
+#   postgres_server.sh stop DIR           immediate shutdown (the data is thrown away), remove DIR
 # Test programs find it through BRISANCE_TEST_PG_DIR (tests/server/postgres_fixture.hpp) and make
 # a database each; without it they start a server of their own. initdb and postgres refuse root:
 # as root (CI) both run as nobody, in a folder nobody owns. Durability is off: tests check the
@@ -38,7 +38,7 @@ case "$command" in
     ;;
   stop)
     if [ -f "$dir/bindir" ]; then
-      $as_user "$(cat "$dir/bindir")/pg_ctl" -D "$dir/data" -m fast stop >/dev/null
+      $as_user "$(cat "$dir/bindir")/pg_ctl" -D "$dir/data" -m immediate stop >/dev/null
     fi
     rm -rf "$dir"
     ;;

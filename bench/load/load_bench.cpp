@@ -75,6 +75,8 @@ constexpr std::string_view kHelp =
     "                       end and check it exits 0\n"
     "  --port P             use a server already listening on 127.0.0.1:P instead\n"
     "  --workers W          simulation workers of the spawned server (default 1)\n"
+    "  --store URL          the spawned server's --store (default: its SQLite store in the\n"
+    "                       temp dir); a postgres:// URL benches the PostgreSQL store\n"
     "  --connections C      keep-alive connections (default 32)\n"
     "  --jobs N             jobs submitted in the POST phase (default 5000)\n"
     "  --get-seconds S      length of the GET phase (default 5; 0 skips it)\n"
@@ -92,6 +94,7 @@ struct Options {
   int port = 0;
   int workers = 1;
   bool workers_set = false;
+  std::string store;  // the spawned server's --store; empty: SQLite
   int connections = 32;
   long long jobs = 5000;
   double get_seconds = 5;
@@ -161,6 +164,8 @@ Options parse_options(int argc, char** argv) {
     } else if (name == "workers") {
       o.workers = static_cast<int>(parse_integer(name, value(), 1, 256));
       o.workers_set = true;
+    } else if (name == "store") {
+      o.store = value();
     } else if (name == "connections") {
       o.connections = static_cast<int>(parse_integer(name, value(), 1, 10000));
     } else if (name == "jobs") {
@@ -189,8 +194,8 @@ Options parse_options(int argc, char** argv) {
     usage_error(
         "give exactly one of --server PATH (spawn a server) or --port P (use a running one)");
   }
-  if (o.port != 0 && o.workers_set) {
-    usage_error("--workers applies only to a server spawned with --server");
+  if (o.port != 0 && (o.workers_set || !o.store.empty())) {
+    usage_error("--workers and --store apply only to a server spawned with --server");
   }
   return o;
 }
@@ -217,7 +222,7 @@ std::string read_file(const fs::path& path) {
 
 class ServerProcess {
  public:
-  ServerProcess(const std::string& binary, int workers) {
+  ServerProcess(const std::string& binary, int workers, const std::string& store) {
     char pattern[] = "/tmp/brisance-load-XXXXXX";
     if (!mkdtemp(pattern)) throw std::runtime_error("cannot make a temporary directory");
     dir_ = pattern;
@@ -228,6 +233,7 @@ class ServerProcess {
                                      "--workers",   std::to_string(workers),
                                      "--max-queue", "1000000",
                                      "--log-level", "warn"};
+    if (!store.empty()) args.insert(args.end(), {"--store", store});
     command_ = args[0];
     for (std::size_t i = 1; i < args.size(); ++i)
       command_ += " " + args[i];
@@ -883,7 +889,7 @@ int run(const Options& options) {
   int port = options.port;
   if (!options.server.empty()) {
     try {
-      server = std::make_unique<ServerProcess>(options.server, options.workers);
+      server = std::make_unique<ServerProcess>(options.server, options.workers, options.store);
     } catch (const std::exception& e) {
       std::cerr << "load_bench: " << e.what() << "\n";
       return 1;

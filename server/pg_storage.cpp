@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <atomic>
 #include <condition_variable>
+#include <exception>
 #include <mutex>
 #include <thread>
 #include <type_traits>
@@ -133,56 +134,32 @@ class PgStorage final : public Storage {
     if (listener_.joinable()) listener_.join();
   }
 
+  // Group commit, as on SQLite: concurrent submissions share one transaction, so one commit (one
+  // WAL flush with synchronous_commit on) serves many jobs. The first caller to find no batch
+  // running leads it; the others wait for its commit. Every caller returns only after its own job
+  // is committed.
   CreateResult create_job(const NewJob& job) override {
-    // Idempotency keys are the owner's own (as on SQLite): the owner's name prefixes the key.
-    const std::string scoped_key = storable_key(
-        job.owner.empty() ? job.idempotency_key : job.owner + "\n" + job.idempotency_key);
-    return with_connection([&](pg::Connection& c) -> CreateResult {
-      auto existing = [&]() -> std::optional<CreateResult> {
-        const pg::Result r =
-            c.exec("SELECT " JOB_COLUMNS ", request_hash FROM jobs WHERE idempotency_key = $1",
-                   pg::Params().add(scoped_key));
-        if (r.rows() == 0) return std::nullopt;
-        CreateResult found{CreateOutcome::existing, read_job(r, 0)};
-        if (r.text(0, kJobColumnCount) != job.request_hash) {
-          found.outcome = CreateOutcome::key_conflict;
-        }
-        return found;
-      };
-      if (!job.idempotency_key.empty()) {
-        if (auto found = existing()) return *found;
+    PendingCreate me{&job, {}, nullptr, false};
+    std::unique_lock lock(group_mutex_);
+    group_queue_.push_back(&me);
+    while (!me.done) {
+      if (group_leader_) {
+        group_done_.wait(lock);
+        continue;
       }
-      if (!job.create_if_missing) return {CreateOutcome::not_created, {}};
-      pg::Params params;
-      params.add(job.id).add(job.priority).add(job.scene_json).add(job.now_ms);
-      if (job.idempotency_key.empty()) {
-        params.add_null().add_null();
-      } else {
-        params.add(scoped_key).add(job.request_hash);
-      }
-      params.add(job.owner);
-      // Another node may insert the same key between the look-up and here: ON CONFLICT waits
-      // for its commit and inserts nothing, and the look-up then finds that job.
-      const pg::Result r = c.exec(
-          "WITH inserted AS (INSERT INTO jobs (id, status, priority, scene, created_ms, "
-          "updated_ms, idempotency_key, request_hash, owner) "
-          "VALUES ($1, 'queued', $2, $3, $4, $4, $5, $6, $7) "
-          "ON CONFLICT (idempotency_key) DO NOTHING RETURNING seq) "
-          "SELECT seq, pg_notify('brisance_queue', '') FROM inserted",
-          params);
-      if (r.rows() == 0) {
-        if (auto found = existing()) return *found;
-        throw StorageError("postgres: idempotency key conflict on a job that vanished");
-      }
-      JobRecord created;
-      created.id = job.id;
-      created.seq = r.int64(0, 0);
-      created.priority = job.priority;
-      created.created_ms = job.now_ms;
-      created.updated_ms = job.now_ms;
-      created.owner = job.owner;
-      return {CreateOutcome::created, std::move(created)};
-    });
+      group_leader_ = true;
+      std::vector<PendingCreate*> batch;
+      batch.swap(group_queue_);
+      lock.unlock();
+      run_batch(batch);
+      lock.lock();
+      for (PendingCreate* p : batch)
+        p->done = true;
+      group_leader_ = false;
+      group_done_.notify_all();
+    }
+    if (me.error) std::rethrow_exception(me.error);
+    return std::move(me.result);
   }
 
   std::optional<JobRecord> get_job(std::string_view id) override {
@@ -557,6 +534,93 @@ class PgStorage final : public Storage {
   }
 
  private:
+  struct PendingCreate {
+    const NewJob* job;
+    CreateResult result;
+    std::exception_ptr error;
+    bool done;
+  };
+
+  void run_batch(const std::vector<PendingCreate*>& batch) {
+    if (batch.size() > 1) {
+      try {
+        std::vector<CreateResult> results;
+        with_connection([&](pg::Connection& c) {
+          results.clear();
+          pg::Transaction tx(c);
+          for (const PendingCreate* p : batch)
+            results.push_back(create_one(c, *p->job));
+          tx.commit();
+          return 0;
+        });
+        for (std::size_t i = 0; i < batch.size(); ++i)
+          batch[i]->result = std::move(results[i]);
+        return;
+      } catch (const StorageError&) {
+        // A failed statement aborts PostgreSQL's whole transaction (unlike SQLite's): nothing
+        // of the batch was committed, so each job runs alone and only its own failure is its.
+      }
+    }
+    for (PendingCreate* p : batch) {
+      try {
+        p->result = with_connection([&](pg::Connection& c) { return create_one(c, *p->job); });
+      } catch (const StorageError&) {
+        p->error = std::current_exception();
+      }
+    }
+  }
+
+  // One submission on `c` (in the batch's transaction, or alone).
+  static CreateResult create_one(pg::Connection& c, const NewJob& job) {
+    // Idempotency keys are the owner's own (as on SQLite): the owner's name prefixes the key.
+    const std::string scoped_key = storable_key(
+        job.owner.empty() ? job.idempotency_key : job.owner + "\n" + job.idempotency_key);
+    auto existing = [&]() -> std::optional<CreateResult> {
+      const pg::Result r =
+          c.exec("SELECT " JOB_COLUMNS ", request_hash FROM jobs WHERE idempotency_key = $1",
+                 pg::Params().add(scoped_key));
+      if (r.rows() == 0) return std::nullopt;
+      CreateResult found{CreateOutcome::existing, read_job(r, 0)};
+      if (r.text(0, kJobColumnCount) != job.request_hash) {
+        found.outcome = CreateOutcome::key_conflict;
+      }
+      return found;
+    };
+    if (!job.idempotency_key.empty()) {
+      if (auto found = existing()) return *found;
+    }
+    if (!job.create_if_missing) return {CreateOutcome::not_created, {}};
+    pg::Params params;
+    params.add(job.id).add(job.priority).add(job.scene_json).add(job.now_ms);
+    if (job.idempotency_key.empty()) {
+      params.add_null().add_null();
+    } else {
+      params.add(scoped_key).add(job.request_hash);
+    }
+    params.add(job.owner);
+    // Another node may insert the same key between the look-up and here: ON CONFLICT waits
+    // for its commit and inserts nothing, and the look-up then finds that job.
+    const pg::Result r = c.exec(
+        "WITH inserted AS (INSERT INTO jobs (id, status, priority, scene, created_ms, "
+        "updated_ms, idempotency_key, request_hash, owner) "
+        "VALUES ($1, 'queued', $2, $3, $4, $4, $5, $6, $7) "
+        "ON CONFLICT (idempotency_key) DO NOTHING RETURNING seq) "
+        "SELECT seq, pg_notify('brisance_queue', '') FROM inserted",
+        params);
+    if (r.rows() == 0) {
+      if (auto found = existing()) return *found;
+      throw StorageError("postgres: idempotency key conflict on a job that vanished");
+    }
+    JobRecord created;
+    created.id = job.id;
+    created.seq = r.int64(0, 0);
+    created.priority = job.priority;
+    created.created_ms = job.now_ms;
+    created.updated_ms = job.now_ms;
+    created.owner = job.owner;
+    return {CreateOutcome::created, std::move(created)};
+  }
+
   // A pooled connection, returned on destruction unless it broke.
   class Lease {
    public:
@@ -736,6 +800,11 @@ class PgStorage final : public Storage {
   Clock::time_point retry_at_{};
   std::chrono::milliseconds backoff_;
   std::string last_error_;
+
+  std::mutex group_mutex_;
+  std::condition_variable group_done_;
+  std::vector<PendingCreate*> group_queue_;
+  bool group_leader_ = false;
 
   std::mutex dispatch_mutex_;  // held while the callbacks run, and while they are replaced
   std::mutex listen_mutex_;

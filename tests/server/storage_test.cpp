@@ -338,6 +338,52 @@ TEST_P(StorageTest, AnotherConnectionSeesTheSameJobs) {
   EXPECT_TRUE(first->ping());
 }
 
+// Submissions arriving together share a commit (group commit on both stores): each still gets
+// its own outcome — one that fails (a duplicate id) fails alone — and a key submitted from many
+// threads at once names one job.
+TEST_P(StorageTest, ConcurrentSubmissionsGetTheirOwnOutcomes) {
+  auto storage = open();
+  storage->create_job(new_job("dup"));
+  std::mutex mutex;
+  std::multiset<std::string> created, found;
+  int failed = 0;
+  std::vector<std::thread> threads;
+  for (int t = 0; t < 8; ++t) {
+    threads.emplace_back([&, t] {
+      for (int i = 0; i < 25; ++i) {
+        auto job =
+            new_job(t == 3 && i == 12 ? "dup" : "t" + std::to_string(t) + "-" + std::to_string(i));
+        if (i % 5 == 0) {  // keys k0..k4, each sent by every thread
+          job.idempotency_key = "k" + std::to_string(i / 5);
+          job.request_hash = "h";
+        }
+        server::CreateResult result;
+        try {
+          result = storage->create_job(job);
+        } catch (const server::StorageError&) {
+          std::lock_guard lock(mutex);
+          ++failed;
+          continue;
+        }
+        std::lock_guard lock(mutex);
+        if (result.outcome == server::CreateOutcome::created) {
+          created.insert(result.job.id);
+          EXPECT_EQ(result.job.id, job.id);
+        } else {
+          EXPECT_EQ(result.outcome, server::CreateOutcome::existing);
+          found.insert(job.idempotency_key);
+        }
+      }
+    });
+  }
+  for (auto& thread : threads)
+    thread.join();
+  EXPECT_EQ(failed, 1);
+  EXPECT_EQ(created.size(), 8u * 20u - 1u + 5u);  // every unkeyed job but "dup", one per key
+  EXPECT_EQ(found.size(), 8u * 5u - 5u);
+  EXPECT_EQ(storage->count_queued(), static_cast<std::int64_t>(created.size()) + 1);
+}
+
 // Clients send any bytes (ids in paths, keys in headers): those that are not UTF-8, or hold a
 // NUL, name no job and work as keys, on both stores.
 TEST_P(StorageTest, AnyBytesNameNoJobAndServeAsKeys) {

@@ -52,6 +52,7 @@ struct BodySource {
   double drag_coefficient = 1.0;
   bool anchored = false;
   bool rotates = true;
+  std::uint8_t sheltered = 0;                // scene::ObjectSpec::sheltered, in the shape frame
   geometry::MassProperties unit_mass;        // at 1 kg/m^3, shape frame
   std::vector<geometry::Panel> load_panels;  // shape frame
   std::vector<geometry::Panel> drag_panels;  // for the flight-drag shape; empty: load_panels
@@ -84,7 +85,9 @@ struct PanelModel {
   Vec3 centre;
   Vec3 normal;  // outward, unit
   double area_m2;
-  double clearing_distance_m;
+  double clearing_distance_m;  // S of the surface the panel lies in
+  double extent_m;             // the panel's own size, sqrt(area): a side face's rise
+  bool sheltered;              // nothing reaches it from behind (a room behind a window)
 };
 
 struct ChargeModel {
@@ -92,8 +95,11 @@ struct ChargeModel {
   blast::Charge charge;
 };
 
-// The wave of one charge reaching one panel (thesis §3.5.3). The arrival time comes from the
-// Kingery–Bulmash fit at the panel's starting distance rather than from integrating U.
+// The wave of one charge reaching one panel (thesis §3.5.3): on its front, its side or its rear
+// (blast::FaceKind, decided when the wave arrives). The arrival time comes from the
+// Kingery–Bulmash fit at the panel's starting distance rather than from integrating U; for a
+// rear face that distance runs straight through the body, which is the length of the body the
+// wave wrapped around (thesis §2.6.4, "Rear Face").
 struct PanelEvent {
   double arrival_time_s;
   std::uint32_t panel;

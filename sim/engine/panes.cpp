@@ -233,6 +233,7 @@ PaneReport break_pane(const scene::ObjectSpec& object, std::size_t index,
     body.friction = object.friction;
     body.drag_coefficient = object.drag_coefficient;
     body.rotates = object.rotates;
+    body.sheltered = object.sheltered;
     out.push_back(std::move(body));
   }
   return report;

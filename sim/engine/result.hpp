@@ -45,7 +45,7 @@ struct Stats {
   std::uint64_t bodies_static_in_frames = 0;  // stored once instead of per frame
   std::uint64_t panels = 0;
   std::uint64_t panels_loaded = 0;
-  std::uint64_t panels_back_facing = 0;  // facing away from every charge: never loaded
+  std::uint64_t panels_back_facing = 0;  // sheltered and facing away from every charge
   std::uint64_t panels_not_reached = 0;  // the wave arrived after the run ended
   std::uint64_t body_steps = 0;          // bodies integrated, summed over steps
   bool occlusion_skipped = true;         // no occlusion pass ran

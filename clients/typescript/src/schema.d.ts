@@ -753,7 +753,7 @@ export interface components {
             bodies_static_in_frames: number;
             panels: number;
             panels_loaded: number;
-            /** @description Facing away from every charge, never loaded. */
+            /** @description Sheltered and facing away from every charge, never loaded. */
             panels_back_facing: number;
             /** @description The wave arrived after the run ended. */
             panels_not_reached: number;
@@ -1295,6 +1295,8 @@ export interface components {
              * @default true
              */
             rotates?: boolean;
+            /** @description Directions of the object's own frame whose faces nothing reaches from behind (a room behind a window); such a face is loaded only by a wave that strikes it. */
+            sheltered?: ("+x" | "-x" | "+y" | "-y" | "+z" | "-z")[];
             material?: components["schemas"]["MaterialName"];
             fracture?: components["schemas"]["Fracture"];
         } | {
@@ -1356,8 +1358,8 @@ export interface components {
              */
             frame_bite?: number;
             /**
-             * @description fragment - each fragment clears from its own edges (thesis §6.5); pane - from the pane's.
-             * @default fragment
+             * @description pane - every fragment clears from the edges of the surface its pane lies in; fragment - each from its own edges (thesis §6.5).
+             * @default pane
              * @enum {string}
              */
             clearing?: "fragment" | "pane";
@@ -1468,6 +1470,11 @@ export interface components {
              * @default 0.07
              */
             frame_depth?: number;
+            /**
+             * @description A room behind the pane - its back (-z of the window's frame) is loaded only by a wave that strikes it.
+             * @default true
+             */
+            sheltered_back?: boolean;
             fracture?: components["schemas"]["Fracture"];
         };
         /**

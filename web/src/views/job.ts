@@ -12,7 +12,7 @@ const STAT_LABELS: Record<string, string> = {
   ended_early: "Ended early (all at rest)", bodies: "Bodies", bodies_anchored: "Anchored",
   bodies_never_released: "Never released (held by friction)", bodies_slept: "Slept",
   bodies_static_in_frames: "Stored once (static)", panels: "Load panels", panels_loaded: "Panels loaded",
-  panels_back_facing: "Panels back-facing", panels_not_reached: "Panels not reached",
+  panels_back_facing: "Panels sheltered from every charge", panels_not_reached: "Panels not reached",
   body_steps: "Body steps", occlusion_skipped: "Occlusion skipped",
 };
 

@@ -82,7 +82,7 @@ int main(int argc, char** argv) {
     double charge_kg;
   };
   std::vector<Case> cases;
-  for (double charge_kg : {0.4, 1.0, 2.0, 4.0, 10.0, 25.0, 60.0})
+  for (double charge_kg : {0.08, 0.4, 1.0, 2.0, 4.0, 10.0, 25.0, 60.0})
     cases.push_back({0.006, charge_kg});
   for (double thickness_m : {0.003, 0.010})
     for (double charge_kg : {1.0, 4.0, 25.0})
@@ -147,7 +147,7 @@ int main(int argc, char** argv) {
   constexpr double kFoot = 0.3048;  // eq. 2.46 read as giving ft/s
   for (const Row& r : rows) {
     std::snprintf(line, sizeof line,
-                  "%4.0f %9.1f %-9s %7.1f %10.0f %6.3f %8.2f%s %9.0f %8.2f %10.3f %6.1f %9.2f "
+                  "%4.0f %9.2f %-9s %7.1f %10.0f %6.3f %8.2f%s %9.0f %8.2f %10.3f %6.1f %9.2f "
                   "%9.2f %5.2f %10.1f %5.3f %11.1f %5.3f %11.2f %10.2f\n",
                   r.thickness_mm, r.charge_kg, r.clearing, r.pressure_kpa, r.stress_mpa,
                   r.critical_um, r.growth_mm, r.clamped ? "*" : " ", r.fragments, r.area_cm2,

@@ -10,6 +10,7 @@
                    healthcheck with its ENV, the compose nodes' and the Kubernetes ConfigMap's
                    settings. Each serves /healthz and /readyz, runs a job, and on SIGTERM exits 0
                    within the stop timeout of its form.
+                   And docs/deploy.md's SQLite online backup, taken while serving.
 
 Run from the repository root: BRISANCE_BINARY=build/.../brisance python3 -m unittest
 tests/deploy/deploy_test.py. Standard library only, plus the Debian tools named in each test.
@@ -23,6 +24,7 @@ import shlex
 import shutil
 import signal
 import subprocess
+import sys
 import tempfile
 import threading
 import time
@@ -550,6 +552,39 @@ class RunForms(unittest.TestCase):
         self.addCleanup(server.stop_now)
         stop_limit = systemd_seconds(unit_value(unit, "Service", "TimeoutStopSec"))
         self.exercise(server, stop_limit, float(flag_value(args, "--grace-s")))
+
+    def test_online_backup(self) -> None:
+        """docs/deploy.md "Backups": SQLite's online backup of a serving node's database, served
+        again from a fresh folder, still has the finished job and its result."""
+        env = self.base_env()
+        env["BRISANCE_PORT"] = "0"
+        env["BRISANCE_WORKERS"] = "1"
+        server = Server([BINARY, "serve", "--data", str(self.data)], env, self.folder)
+        self.addCleanup(server.stop_now)
+        server.wait_listening(self)
+        status, headers, body = server.request("POST", "/v1/jobs", {"scene": THREE_BLOCKS})
+        self.assertEqual(status, 202, body)
+        location = headers["Location"]
+        deadline = time.monotonic() + 120
+        while json.loads(server.request("GET", location + "?wait=5")[2])["status"] != "succeeded":
+            self.assertLess(time.monotonic(), deadline)
+        result = server.request("GET", location + "/result")
+        restored = self.folder / "restored"
+        restored.mkdir()
+        backup = restored / "brisance.sqlite3"
+        # The documented one-liner, while the server runs (and holds the database open).
+        subprocess.run([sys.executable, "-c",
+                        "import sqlite3,sys; sqlite3.connect(sys.argv[1]).backup(sqlite3.connect(sys.argv[2]))",
+                        str(self.data / "brisance.sqlite3"), str(backup)], check=True, timeout=60)
+        self.assertEqual(server.terminate(30)[0], 0)
+        again = Server([BINARY, "serve", "--data", str(restored)], env, self.folder)
+        self.addCleanup(again.stop_now)
+        again.wait_listening(self)
+        status, _, body = again.request("GET", location)
+        self.assertEqual(status, 200, body)
+        self.assertEqual(json.loads(body)["status"], "succeeded")
+        self.assertEqual(again.request("GET", location + "/result")[2], result[2])
+        self.assertEqual(again.terminate(30)[0], 0)
 
     def image_env(self) -> dict[str, str]:
         env = self.base_env()

@@ -5,6 +5,8 @@
 #                     files must agree on (npm packages pinned in tests/deploy/package-lock.json,
 #                     installed by `npm ci --prefix tests/deploy`, as `make test` does).
 #   deploy.systemd    systemd-analyze verify and security on the unit (Debian package systemd).
+#   deploy.sandbox    the unit's ExecStart traced with strace through probes, a job and SIGTERM:
+#                     its system calls, sockets, writes and /proc reads against the unit's sandbox.
 #   deploy.dockerfile the image's stages, its runtime packages against the binary's libraries.
 #   deploy.run        each form's command line and settings run against the built binary.
 set(BRISANCE_DEPLOY_TEST_DIR ${CMAKE_CURRENT_LIST_DIR}/deploy)
@@ -20,7 +22,7 @@ else()
            COMMAND sh -c "echo 'deploy.manifests: node was not found on PATH' >&2; exit 1")
 endif()
 
-set(_deploy_classes systemd SystemdUnit dockerfile Dockerfile run RunForms)
+set(_deploy_classes systemd SystemdUnit sandbox SystemdSandbox dockerfile Dockerfile run RunForms)
 while(_deploy_classes)
   list(POP_FRONT _deploy_classes _name _class)
   if(BRISANCE_CLIENT_PYTHON)

@@ -2,6 +2,8 @@
 
   SystemdUnit      systemd-analyze verify and security on deploy/systemd/brisance.service (a copy
                    whose ExecStart names the built binary), and its stop timeout against --grace-s.
+  SystemdSandbox   the unit's ExecStart traced (strace) through a whole life: its system calls,
+                   sockets, memory mappings, writes and /proc reads against the unit's sandbox.
   Dockerfile       the image's stages and files; its runtime packages against the shared
                    libraries of the built binary (ldd, dpkg -S); the build stage's sources
                    against a CMake configure of just those.
@@ -219,10 +221,14 @@ class Server:
         except urllib.error.HTTPError as error:
             return error.code, dict(error.headers), error.read()
 
-    def terminate(self, limit_s: float) -> tuple[int | None, float]:
-        """SIGTERM; the exit code (None if it outlived limit_s and was killed) and the time."""
+    def terminate(self, limit_s: float, pid: int | None = None) -> tuple[int | None, float]:
+        """SIGTERM to the server (or to pid: the server under strace); the exit code (None if it
+        outlived limit_s and was killed) and the time."""
         start = time.monotonic()
-        self.process.send_signal(signal.SIGTERM)
+        if pid is None:
+            self.process.send_signal(signal.SIGTERM)
+        else:
+            os.kill(pid, signal.SIGTERM)
         try:
             code = self.process.wait(timeout=limit_s)
         except subprocess.TimeoutExpired:
@@ -472,10 +478,8 @@ class Dockerfile(unittest.TestCase):
 # --- the forms, run ---------------------------------------------------------------------------
 
 
-class RunForms(unittest.TestCase):
-    """Each form's command line and settings against the built binary and a temporary folder.
-    The PostgreSQL URL and blob folder of the multi-node forms are left out: these runs use the
-    SQLite store (issue 14's postgres tests run the multi-node case)."""
+class FormRunner(unittest.TestCase):
+    """Runs a form's command line against the built binary and a temporary folder."""
 
     def setUp(self) -> None:
         require_binary(self)
@@ -502,7 +506,8 @@ class RunForms(unittest.TestCase):
                 return here + value[len(deployed):]
         return value
 
-    def exercise(self, server: Server, stop_limit_s: float, grace_s: float) -> None:
+    def exercise(self, server: Server, stop_limit_s: float, grace_s: float,
+                 signal_pid: int | None = None) -> None:
         """Probes, one job to success, then SIGTERM: exit 0 within the form's stop limit."""
         server.wait_listening(self)
         listening = server.event("listening")
@@ -526,7 +531,7 @@ class RunForms(unittest.TestCase):
                 break
         self.assertEqual(job.get("status"), "succeeded", job)
         self.assertEqual(server.request("GET", location + "/result")[0], 200)
-        code, took_s = server.terminate(stop_limit_s)
+        code, took_s = server.terminate(stop_limit_s, signal_pid)
         self.assertEqual(code, 0, f"exit after SIGTERM (limit {stop_limit_s} s); log:\n" +
                          "\n".join(server.log[-20:]))
         shutting = server.event("shutting down")
@@ -535,7 +540,9 @@ class RunForms(unittest.TestCase):
         self.assertEqual(float(shutting["grace_s"]), grace_s)
         self.assertIsNotNone(server.event("stopped"))
 
-    def test_systemd_exec_start(self) -> None:
+    def unit_command(self) -> tuple[dict, list[str], dict[str, str]]:
+        """The unit, its ExecStart and the environment systemd would give it (Environment=, then
+        the env file), with this test's paths and a free port instead of 8080."""
         unit = read_unit(DEPLOY / "systemd" / "brisance.service")
         args = [self.map_path(a) for a in shlex.split(unit_value(unit, "Service", "ExecStart"))]
         env = self.base_env()
@@ -545,9 +552,18 @@ class RunForms(unittest.TestCase):
                 env[name] = self.map_path(setting)
         for name, setting in read_env_file(DEPLOY / "systemd" / "brisance.env").items():
             env[name] = self.map_path(setting)
-        # A free port instead of 8080; everything else as deployed.
         env["BRISANCE_PORT"] = "0"
         self.assertIsNone(flag_value(args, "--port"))
+        return unit, args, env
+
+
+class RunForms(FormRunner):
+    """Each form's command line and settings against the built binary and a temporary folder.
+    The PostgreSQL URL and blob folder of the multi-node forms are left out: these runs use the
+    SQLite store (issue 14's postgres tests run the multi-node case)."""
+
+    def test_systemd_exec_start(self) -> None:
+        unit, args, env = self.unit_command()
         server = Server(args, env, self.folder)
         self.addCleanup(server.stop_now)
         stop_limit = systemd_seconds(unit_value(unit, "Service", "TimeoutStopSec"))
@@ -681,6 +697,128 @@ class RunForms(unittest.TestCase):
         grace = float(config["BRISANCE_GRACE_S"])
         code, _ = server.terminate(REQUEST_DRAIN_S + grace + 5)
         self.assertEqual(code, 0, "\n".join(server.log[-20:]))
+
+
+# --- the unit's sandbox, traced -------------------------------------------------------------------
+
+
+def syscall_groups() -> dict[str, list[str]]:
+    """systemd's system call groups (`systemd-analyze syscall-filter`): name -> members, which
+    may be groups themselves."""
+    run = subprocess.run(["systemd-analyze", "syscall-filter", "--no-pager"], capture_output=True,
+                         text=True, check=True)
+    groups: dict[str, list[str]] = {}
+    current = None
+    for line in run.stdout.splitlines():
+        if line.startswith("@"):
+            current = line.strip()
+            groups[current] = []
+        elif current and line.startswith("    ") and not line.strip().startswith("#"):
+            groups[current].append(line.strip())
+    return groups
+
+
+def expand(names: list[str], groups: dict[str, list[str]]) -> set[str]:
+    out: set[str] = set()
+    for name in names:
+        if name.startswith("@"):
+            out |= expand(groups[name], groups)
+        else:
+            out.add(name)
+    return out
+
+
+def allowed_syscalls(unit: dict) -> set[str]:
+    """What the unit's SystemCallFilter= lines allow: the first line without ~ starts an allow
+    list, later ones add to it, lines with ~ take away (systemd.exec(5))."""
+    groups = syscall_groups()
+    allowed: set[str] = set()
+    for key, value in unit["Service"]:
+        if key != "SystemCallFilter":
+            continue
+        if value.startswith("~"):
+            allowed -= expand(value[1:].split(), groups)
+        else:
+            allowed |= expand(value.split(), groups)
+    return allowed
+
+
+NOBODY = 65534
+TRACE_LINE = re.compile(r"^(\d+)\s+(?:<\.\.\. )?([a-z_0-9]+)[\( ](.*)$")
+WRITE_FLAGS = re.compile(r"O_WRONLY|O_RDWR|O_CREAT|O_TRUNC")
+
+
+class SystemdSandbox(FormRunner):
+    """The unit's sandbox cannot run here (no systemd as PID 1), so the unit's ExecStart runs
+    under strace through a whole life (probes, a job, SIGTERM) and what it did is checked
+    against what the sandbox allows: every system call passes SystemCallFilter, every socket is
+    of RestrictAddressFamilies, no memory is writable and executable (MemoryDenyWriteExecute),
+    nothing is written outside the state directory (ProtectSystem=strict), and /proc is read
+    only for its own process (ProcSubset=pid)."""
+
+    def test_a_traced_run_stays_inside_the_sandbox(self) -> None:
+        if shutil.which("strace") is None:
+            self.fail("strace not found: install the Debian package strace (make test does)")
+        unit, args, env = self.unit_command()
+        trace = self.folder / "trace.txt"
+        # As the unit's dynamic user is, not root: SQLite, for one, chowns its files only as root.
+        user = []
+        if os.geteuid() == 0:
+            user = ["setpriv", "--reuid", str(NOBODY), "--regid", str(NOBODY), "--clear-groups"]
+            os.chmod(self.folder, 0o755)
+            os.chown(self.data, NOBODY, NOBODY)
+        server = Server(["strace", "-f", "-qq", "-s", "256", "-o", str(trace), "--", *user, *args],
+                        env, self.folder)
+        self.addCleanup(server.stop_now)
+        server.wait_listening(self)
+        traced = self.traced_child(server.process.pid)
+        stop_limit = systemd_seconds(unit_value(unit, "Service", "TimeoutStopSec"))
+        self.exercise(server, stop_limit, float(flag_value(args, "--grace-s")), signal_pid=traced)
+        calls = [m.groups() for m in map(TRACE_LINE.match, trace.read_text().splitlines()) if m]
+        # From the server's own start on (not strace's or setpriv's).
+        starts = [i for i, (_, name, rest) in enumerate(calls)
+                  if name == "execve" and rest.startswith(f'"{args[0]}"')]
+        self.assertTrue(starts, "the trace shows the server's execve")
+        calls = calls[starts[-1] + 1:]
+        self.assertGreater(len(calls), 100, "strace recorded the run")
+        service = dict(unit["Service"])
+
+        used = {name for _, name, _ in calls if name not in ("exited", "killed", "resumed")}
+        outside = used - allowed_syscalls(unit)
+        self.assertEqual(outside, set(), "system calls SystemCallFilter= would refuse")
+
+        families = set(service["RestrictAddressFamilies"].split())
+        for _, name, rest in calls:
+            if name == "socket":
+                self.assertIn(rest.split(",")[0], families, rest)
+            if name in ("mmap", "mprotect", "pkey_mprotect"):
+                self.assertFalse("PROT_WRITE" in rest and "PROT_EXEC" in rest, rest)
+
+        data = str(self.data.resolve())
+        for _, name, rest in calls:
+            path = re.search(r'"([^"]*)"', rest)
+            if not path:
+                continue
+            target = os.path.normpath(os.path.join(str(self.folder), path.group(1)))
+            writes = (name in ("open", "openat", "creat") and WRITE_FLAGS.search(rest)) or name in (
+                "unlink", "unlinkat", "rename", "renameat", "renameat2", "mkdir", "mkdirat",
+                "rmdir", "truncate", "chmod", "fchmodat", "chown", "fchownat", "link", "symlink")
+            if writes and not target.startswith("/dev/"):
+                self.assertTrue(target == data or target.startswith(data + "/"),
+                                f"writes {target} outside the state directory: {name}({rest[:120]}")
+            if target.startswith("/proc/"):
+                self.assertRegex(target, r"^/proc/(self|thread-self|\d+)(/|$)",
+                                 "ProcSubset=pid hides it")
+
+    def traced_child(self, strace_pid: int) -> int:
+        deadline = time.monotonic() + 10
+        while time.monotonic() < deadline:
+            for task in Path(f"/proc/{strace_pid}/task").iterdir():
+                children = (task / "children").read_text().split()
+                if children:
+                    return int(children[0])
+            time.sleep(0.05)
+        self.fail("no traced child under strace")
 
 
 if __name__ == "__main__":

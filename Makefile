@@ -11,8 +11,8 @@ DEB_PACKAGES := cmake g++ make ninja-build pkg-config \
   libgtest-dev libgmock-dev libbenchmark-dev libssl-dev python3
 # Only the browser tests need these.
 TEST_DEB_PACKAGES := chromium
-# Only the deploy/ checks need these (tests/deploy.cmake): systemd-analyze, strace.
-DEPLOY_TEST_DEB_PACKAGES := systemd strace
+# Only the deploy/ checks need these (tests/deploy.cmake): systemd-analyze, strace, shellcheck.
+DEPLOY_TEST_DEB_PACKAGES := systemd strace shellcheck
 
 .PHONY: all deps node gltf-validator web web-test-deps deploy-test-deps build run test sanitize bench load-bench accuracy-study format clean
 
@@ -64,8 +64,8 @@ web-test-deps: node
 	$(call apt_install,$(TEST_DEB_PACKAGES))
 	npm ci --prefix tests/web --no-audit --no-fund --loglevel=error
 
-# The deploy/ checks (tests/deploy.cmake): systemd-analyze, strace, and the Kubernetes and
-# Compose schema tools pinned in tests/deploy/package-lock.json.
+# The deploy/ checks (tests/deploy.cmake): systemd-analyze, strace, shellcheck, and the Kubernetes
+# and Compose schema tools pinned in tests/deploy/package-lock.json.
 deploy-test-deps: node
 	$(call apt_install,$(DEPLOY_TEST_DEB_PACKAGES))
 	npm ci --prefix tests/deploy --no-audit --no-fund --loglevel=error

@@ -4,7 +4,7 @@
                    whose ExecStart names the built binary), and its stop timeout against --grace-s.
   SystemdSandbox   the unit's ExecStart traced (strace) through a whole life: its system calls,
                    sockets, memory mappings, writes and /proc reads against the unit's sandbox.
-  Dockerfile       the image's stages and files; its runtime packages against the shared
+  Dockerfile       the image's stages and files; its scripts through shellcheck; its runtime packages against the shared
                    libraries of the built binary (ldd, dpkg -S); the build stage's sources
                    against a CMake configure of just those.
   RunForms         each form's command line and settings run for real against a temporary data
@@ -411,6 +411,18 @@ class Dockerfile(unittest.TestCase):
         ignored = (ROOT / ".dockerignore").read_text().split()
         for heavy in ("build", "**/node_modules", ".git"):
             self.assertIn(heavy, ignored)
+
+    def test_scripts_pass_shellcheck(self) -> None:
+        if shutil.which("shellcheck") is None:
+            self.fail("shellcheck not found: install the Debian package shellcheck (make test does)")
+        scripts = [str(DEPLOY / "container" / n) for n in ("entrypoint.sh", "healthcheck.sh")]
+        run = subprocess.run(["shellcheck", *scripts], capture_output=True, text=True, timeout=60)
+        self.assertEqual(run.returncode, 0, run.stdout + run.stderr)
+        with tempfile.NamedTemporaryFile("w", suffix=".sh") as careless:
+            careless.write("#!/bin/sh\nrm -rf $1/data\n")
+            careless.flush()
+            run = subprocess.run(["shellcheck", careless.name], capture_output=True, text=True)
+            self.assertIn("SC2086", run.stdout)
 
     def test_runtime_packages_cover_the_binary(self) -> None:
         require_binary(self)

@@ -4,18 +4,18 @@
                    whose ExecStart names the built binary), and its stop timeout against --grace-s.
   SystemdSandbox   the unit's ExecStart traced (strace) through a whole life: its system calls,
                    sockets, memory mappings, writes and /proc reads against the unit's sandbox.
-  Dockerfile       the image's stages and files; its scripts through shellcheck; its runtime packages against the shared
-                   libraries of the built binary (ldd, dpkg -S); the build stage's sources
-                   against a CMake configure of just those.
+  Dockerfile       the image's stages and files; its scripts through shellcheck; its runtime
+                   packages against the shared libraries of the built binary (ldd, dpkg -S); the
+                   build stage's sources against a CMake configure of just those.
   RunForms         each form's command line and settings run for real against a temporary data
                    folder: the unit's ExecStart with its environment, the image's entry point and
                    healthcheck with its ENV, the compose nodes' and the Kubernetes ConfigMap's
                    settings. Each serves /healthz and /readyz, runs a job, and on SIGTERM exits 0
-                   within the stop timeout of its form.
-                   And docs/deploy.md's SQLite online backup, taken while serving.
+                   within the stop timeout of its form. And docs/deploy.md's SQLite online
+                   backup, taken while serving.
 
-Run from the repository root: BRISANCE_BINARY=build/.../brisance python3 -m unittest
-tests/deploy/deploy_test.py. Standard library only, plus the Debian tools named in each test.
+Run: BRISANCE_BINARY=build/.../brisance python3 tests/deploy/deploy_test.py -v [CLASS ...]
+Standard library only, plus the Debian tools named in each test (make deploy-test-deps).
 """
 from __future__ import annotations
 
@@ -258,7 +258,8 @@ class SystemdUnit(unittest.TestCase):
     def setUp(self) -> None:
         require_binary(self)
         if shutil.which("systemd-analyze") is None:
-            self.fail("systemd-analyze not found: install the Debian package systemd (make test does)")
+            self.fail("systemd-analyze not found: install the Debian package systemd "
+                      "(make test does)")
         self.folder = Path(tempfile.mkdtemp(prefix="brisance-unit-"))
         self.addCleanup(shutil.rmtree, self.folder, ignore_errors=True)
 
@@ -273,7 +274,8 @@ class SystemdUnit(unittest.TestCase):
         """systemd-analyze verify's complaints (it exits 0 on unknown keys: any output counts)."""
         run = subprocess.run(["systemd-analyze", "verify", "--man=no", str(unit)],
                              capture_output=True, text=True, timeout=60)
-        return (run.stdout + run.stderr).strip() + ("" if run.returncode == 0 else f" (exit {run.returncode})")
+        status = "" if run.returncode == 0 else f" (exit {run.returncode})"
+        return (run.stdout + run.stderr).strip() + status
 
     def test_verify_is_clean(self) -> None:
         text = self.unit_path.read_text()
@@ -414,7 +416,8 @@ class Dockerfile(unittest.TestCase):
 
     def test_scripts_pass_shellcheck(self) -> None:
         if shutil.which("shellcheck") is None:
-            self.fail("shellcheck not found: install the Debian package shellcheck (make test does)")
+            self.fail("shellcheck not found: install the Debian package shellcheck "
+                      "(make test does)")
         scripts = [str(DEPLOY / "container" / n) for n in ("entrypoint.sh", "healthcheck.sh")]
         run = subprocess.run(["shellcheck", *scripts], capture_output=True, text=True, timeout=60)
         self.assertEqual(run.returncode, 0, run.stdout + run.stderr)
@@ -462,7 +465,8 @@ class Dockerfile(unittest.TestCase):
                     for item in sources:
                         target = source / (item if destination in ("./", ".") else destination)
                         if (ROOT / item).is_dir():
-                            shutil.copytree(ROOT / item, target, ignore=shutil.ignore_patterns("node_modules"))
+                            shutil.copytree(ROOT / item, target,
+                                            ignore=shutil.ignore_patterns("node_modules"))
                         else:
                             shutil.copy2(ROOT / item, target)
             cmake_line = next(r for i, r in self.by_name["build"]["lines"]
@@ -602,7 +606,8 @@ class RunForms(FormRunner):
         backup = restored / "brisance.sqlite3"
         # The documented one-liner, while the server runs (and holds the database open).
         subprocess.run([sys.executable, "-c",
-                        "import sqlite3,sys; sqlite3.connect(sys.argv[1]).backup(sqlite3.connect(sys.argv[2]))",
+                        "import sqlite3,sys; "
+                        "sqlite3.connect(sys.argv[1]).backup(sqlite3.connect(sys.argv[2]))",
                         str(self.data / "brisance.sqlite3"), str(backup)], check=True, timeout=60)
         self.assertEqual(server.terminate(30)[0], 0)
         again = Server([BINARY, "serve", "--data", str(restored)], env, self.folder)
@@ -616,7 +621,8 @@ class RunForms(FormRunner):
 
     def image_env(self) -> dict[str, str]:
         env = self.base_env()
-        for name, value in dockerfile_env(dockerfile_stages(DEPLOY / "container" / "Dockerfile")[-1]).items():
+        runtime = dockerfile_stages(DEPLOY / "container" / "Dockerfile")[-1]
+        for name, value in dockerfile_env(runtime).items():
             env[name] = self.map_path(value)
         # Loopback only on a test machine, and a free port (the healthcheck reads BRISANCE_PORT).
         env["BRISANCE_BIND"] = "127.0.0.1"
@@ -637,7 +643,8 @@ class RunForms(FormRunner):
         self.assertEqual(self.healthcheck(env, server.port), 0)
         self.assertEqual(self.healthcheck(env, server.port, "/readyz"), 0)
         self.assertNotEqual(self.healthcheck(env, server.port, "/no-such-route"), 0)
-        self.assertEqual(server.event("listening")["dashboard"], self.web.joinpath("index.html").exists())
+        self.assertEqual(server.event("listening")["dashboard"],
+                         self.web.joinpath("index.html").exists())
         # docker stop's default is 10 s; docs/deploy.md says to give it 10 + grace (+ margin).
         self.exercise(server, REQUEST_DRAIN_S + 10 + 5, 10.0)
         self.assertNotEqual(self.healthcheck(env, server.port), 0)
@@ -669,7 +676,8 @@ class RunForms(FormRunner):
         text = (DEPLOY / "compose.yaml").read_text()
         block = re.search(r"(?ms)^  environment: &brisance-environment\n(.*?)^  \S", text)
         self.assertIsNotNone(block)
-        settings = dict(re.findall(r"^    (BRISANCE_[A-Z_0-9]+): \"?([^\"\n]*)\"?$", block.group(1), re.M))
+        settings = dict(re.findall(r"^    (BRISANCE_[A-Z_0-9]+): \"?([^\"\n]*)\"?$",
+                                   block.group(1), re.M))
         self.assertIn("BRISANCE_STORE", settings)
         env = self.image_env()
         for name, value in settings.items():

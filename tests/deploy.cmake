@@ -12,6 +12,10 @@
 set(BRISANCE_DEPLOY_TEST_DIR ${CMAKE_CURRENT_LIST_DIR}/deploy)
 
 if(BRISANCE_NODE_EXECUTABLE)
+  if(NOT EXISTS ${BRISANCE_DEPLOY_TEST_DIR}/node_modules/kubernetes-models)
+    message(WARNING "deploy.manifests will fail until its packages are installed: run "
+                    "`npm ci --prefix tests/deploy` (or make deploy-test-deps).")
+  endif()
   add_test(NAME deploy.manifests
            COMMAND ${BRISANCE_NODE_EXECUTABLE} ${BRISANCE_DEPLOY_TEST_DIR}/manifests.mjs
                    ${PROJECT_SOURCE_DIR}

@@ -451,6 +451,10 @@ class Dockerfile(unittest.TestCase):
         for library, package in needed.items():
             self.assertIn(package, runtime_packages | BASE_IMAGE_PACKAGES,
                           f"the binary links {library} from {package}: add it to the runtime stage")
+        # Only runtime libraries: each package installed there provides one the binary links.
+        for package in runtime_packages:
+            self.assertIn(package, set(needed.values()),
+                          f"the runtime stage installs {package}, which the binary does not link")
 
     def test_build_stage_sources_configure(self) -> None:
         """The build stage COPYs only some folders: CMake must configure from just those."""

@@ -63,7 +63,7 @@ function readKubernetes(dir) {
   return { objects, kustomization };
 }
 
-// The Dockerfile's runtime user and its ENV defaults (tests/deploy/dockerfile_check.py checks
+// The Dockerfile's runtime user and its ENV defaults (tests/deploy/deploy_test.py checks
 // the rest of that file).
 function readDockerfile(file) {
   const text = fs.readFileSync(file, "utf8").replace(/\\\n/g, " ");

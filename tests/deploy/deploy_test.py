@@ -42,6 +42,14 @@ BINARY = os.path.abspath(os.environ["BRISANCE_BINARY"]) if os.environ.get("BRISA
 # (cli/serve_command.cpp).
 REQUEST_DRAIN_S = 10
 THREE_BLOCKS = json.loads((ROOT / "scenes" / "three_blocks.json").read_text())
+# A job that runs for minutes (as in clients/python/tests): boxes falling forever, 10 us steps.
+SLOW_SCENE = {
+    "charges": [{"position": [0, 0, -50], "mass": 0.001}],
+    "environment": {"ground": None, "air_density": 0},
+    "objects": [{"name": f"box{i}", "shape": {"type": "box", "size": [1, 1, 1]},
+                 "position": [3.0 * i, 10, 0], "mass": 1} for i in range(4)],
+    "simulation": {"duration": 600, "time_step": 1e-5},
+}
 
 
 def require_binary(test: unittest.TestCase) -> None:
@@ -527,8 +535,10 @@ class FormRunner(unittest.TestCase):
         return value
 
     def exercise(self, server: Server, stop_limit_s: float, grace_s: float,
-                 signal_pid: int | None = None) -> None:
-        """Probes, one job to success, then SIGTERM: exit 0 within the form's stop limit."""
+                 signal_pid: int | None = None, stop_while_running: bool = False) -> str | None:
+        """Probes, one job to success, then SIGTERM: exit 0 within the form's stop limit. With
+        stop_while_running, a job that outlasts the grace period runs when SIGTERM comes: its
+        location is returned."""
         server.wait_listening(self)
         listening = server.event("listening")
         self.assertEqual(Path(listening["database"]).parent.resolve(), self.data.resolve())
@@ -551,6 +561,14 @@ class FormRunner(unittest.TestCase):
                 break
         self.assertEqual(job.get("status"), "succeeded", job)
         self.assertEqual(server.request("GET", location + "/result")[0], 200)
+        running = None
+        if stop_while_running:
+            status, headers, body = server.request("POST", "/v1/jobs", {"scene": SLOW_SCENE})
+            self.assertEqual(status, 202, body)
+            running = headers["Location"]
+            deadline = time.monotonic() + 60
+            while json.loads(server.request("GET", running + "?wait=2")[2])["status"] != "running":
+                self.assertLess(time.monotonic(), deadline, "the slow job never started")
         code, took_s = server.terminate(stop_limit_s, signal_pid)
         self.assertEqual(code, 0, f"exit after SIGTERM (limit {stop_limit_s} s); log:\n" +
                          "\n".join(server.log[-20:]))
@@ -559,6 +577,7 @@ class FormRunner(unittest.TestCase):
         self.assertEqual(shutting["signal"], "SIGTERM")
         self.assertEqual(float(shutting["grace_s"]), grace_s)
         self.assertIsNotNone(server.event("stopped"))
+        return running
 
     def unit_command(self) -> tuple[dict, list[str], dict[str, str]]:
         """The unit, its ExecStart and the environment systemd would give it (Environment=, then
@@ -583,11 +602,22 @@ class RunForms(FormRunner):
     SQLite store (issue 14's postgres tests run the multi-node case)."""
 
     def test_systemd_exec_start(self) -> None:
+        """The unit's command line, stopped while a job runs that outlasts --grace-s: it must
+        exit 0 before TimeoutStopSec (systemd would SIGKILL it then) and find the job queued
+        again at the next start."""
         unit, args, env = self.unit_command()
         server = Server(args, env, self.folder)
         self.addCleanup(server.stop_now)
         stop_limit = systemd_seconds(unit_value(unit, "Service", "TimeoutStopSec"))
-        self.exercise(server, stop_limit, float(flag_value(args, "--grace-s")))
+        slow = self.exercise(server, stop_limit, float(flag_value(args, "--grace-s")),
+                             stop_while_running=True)
+        again = Server(args, env, self.folder)
+        self.addCleanup(again.stop_now)
+        again.wait_listening(self)
+        job = json.loads(again.request("GET", slow)[2])
+        self.assertIn(job["status"], ("queued", "running"), job)
+        self.assertEqual(again.request("POST", slow + "/cancel")[0] // 100, 2)
+        self.assertEqual(again.terminate(stop_limit)[0], 0)
 
     def test_online_backup(self) -> None:
         """docs/deploy.md "Backups": SQLite's online backup of a serving node's database, served

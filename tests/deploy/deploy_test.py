@@ -821,6 +821,10 @@ class SystemdSandbox(FormRunner):
             user = ["setpriv", "--reuid", str(NOBODY), "--regid", str(NOBODY), "--clear-groups"]
             os.chmod(self.folder, 0o755)
             os.chown(self.data, NOBODY, NOBODY)
+            # A copy the user can run wherever the build tree is (a root-only home, say).
+            args[0] = str(self.folder / "brisance")
+            shutil.copy2(BINARY, args[0])
+            os.chmod(args[0], 0o755)
         # LeakSanitizer (make test's build) cannot run under ptrace; leaks are other tests' job.
         env["ASAN_OPTIONS"] = ":".join(filter(None, [env.get("ASAN_OPTIONS"), "detect_leaks=0"]))
         server = Server(["strace", "-f", "-qq", "-s", "256", "-o", str(trace), "--", *user, *args],

@@ -11,8 +11,10 @@ DEB_PACKAGES := cmake g++ make ninja-build pkg-config \
   libgtest-dev libgmock-dev libbenchmark-dev libssl-dev python3
 # Only the browser tests need these.
 TEST_DEB_PACKAGES := chromium
+# Only the deploy/ checks need these (tests/deploy.cmake): systemd-analyze, strace, shellcheck.
+DEPLOY_TEST_DEB_PACKAGES := systemd strace shellcheck
 
-.PHONY: all deps node gltf-validator web web-test-deps build run test sanitize bench load-bench accuracy-study format clean
+.PHONY: all deps node gltf-validator web web-test-deps deploy-test-deps build run test sanitize bench load-bench accuracy-study format clean
 
 all: build
 
@@ -62,6 +64,12 @@ web-test-deps: node
 	$(call apt_install,$(TEST_DEB_PACKAGES))
 	npm ci --prefix tests/web --no-audit --no-fund --loglevel=error
 
+# The deploy/ checks (tests/deploy.cmake): systemd-analyze, strace, shellcheck, and the Kubernetes
+# and Compose schema tools pinned in tests/deploy/package-lock.json.
+deploy-test-deps: node
+	$(call apt_install,$(DEPLOY_TEST_DEB_PACKAGES))
+	npm ci --prefix tests/deploy --no-audit --no-fund --loglevel=error
+
 $(BUILD_DIR)/release/CMakeCache.txt: | deps
 	cmake -S . -B $(BUILD_DIR)/release $(GENERATOR) -DCMAKE_BUILD_TYPE=Release
 
@@ -76,7 +84,7 @@ run: build web
 
 # The whole test suite, built with AddressSanitizer + UndefinedBehaviorSanitizer and warnings as
 # errors, run through CTest.
-test: deps gltf-validator web web-test-deps
+test: deps gltf-validator web web-test-deps deploy-test-deps
 	cmake -S . -B $(BUILD_DIR)/sanitize $(GENERATOR) -DCMAKE_BUILD_TYPE=Sanitize -DBRISANCE_WERROR=ON
 	cmake --build $(BUILD_DIR)/sanitize -j $(JOBS)
 	cd $(BUILD_DIR)/sanitize && ctest --output-on-failure -j $(JOBS)

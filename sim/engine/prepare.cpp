@@ -143,17 +143,26 @@ void prepare_events(const std::vector<BodySource>& sources, Model& model, Stats&
     const Vec3 world_com = object.position + object.orientation * model.centre_of_mass[panel.body];
     const Vec3 centre = world_com + object.orientation * panel.centre;
     const Vec3 normal = object.orientation * panel.normal;
-    bool any = false;
+    bool sheltered_from_all = true;
     for (std::uint32_t c = 0; c < model.charges.size(); ++c) {
       const Vec3 d = centre - model.charges[c].position;
       const double distance = std::max(d.norm(), 1e-3);
-      if (panel.sheltered && blast::face_kind(-normal.dot(d) / distance) != blast::FaceKind::front)
+      const blast::FaceKind kind = blast::face_kind(-normal.dot(d) / distance);
+      if (panel.sheltered && kind != blast::FaceKind::front)
         continue;  // nothing reaches it from behind
-      any = true;
+      sheltered_from_all = false;
+      // Wholly shielded from this charge (thesis eq. 4.1 at f = 0): no load at all.
+      if (!model.shielding.empty() &&
+          (kind == blast::FaceKind::front
+               ? model.shielding[c * model.panels.size() + p]
+               : model.body_shielding[c * model.bodies.size() + panel.body]) <= 0.0f) {
+        ++stats.panels_shielded;
+        continue;
+      }
       const blast::BlastPoint point = blast::blast_point(model.charges[c].charge, distance);
       model.events.push_back(PanelEvent{point.arrival_time_s, p, c});
     }
-    if (!any) ++stats.panels_back_facing;
+    if (sheltered_from_all) ++stats.panels_back_facing;
   }
   std::sort(model.events.begin(), model.events.end(), [](const PanelEvent& a, const PanelEvent& b) {
     if (a.arrival_time_s != b.arrival_time_s) return a.arrival_time_s < b.arrival_time_s;
@@ -186,6 +195,7 @@ Model prepare(const scene::Scene& scene, std::vector<BodySource>& sources,
       if (model.fragment[model.panels[p].body]) model.panels[p].clearing_distance_m = own[p];
   }
 
+  prepare_shielding(scene.simulation, sources, model, stats);
   prepare_events(sources, model, stats);
 
   // The result's bodies, each with its mesh (moved out of its source: prepare is done with it).

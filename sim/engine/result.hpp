@@ -49,6 +49,7 @@ struct Stats {
   std::uint64_t panels_not_reached = 0;  // the wave arrived after the run ended
   std::uint64_t body_steps = 0;          // bodies integrated, summed over steps
   bool occlusion_skipped = true;         // no occlusion pass ran
+  std::uint64_t panels_shielded = 0;     // (panel, charge) pairs wholly shielded: no load
   std::uint64_t panes_broken = 0;        // breakable panes cut into fragments
   std::uint64_t panes_not_broken = 0;    // stress below strength: no fracture work at all
   std::uint64_t fragments = 0;           // fragment bodies made

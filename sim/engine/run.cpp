@@ -59,8 +59,13 @@ void Run::activate(const PanelEvent& event) {
   options.clearing_distance_m = panel.clearing_distance_m;
   options.panel_extent_m = panel.extent_m;
   options.drag_coefficient = model_.bodies[panel.body].drag_coefficient;
-  state_.active.push_back(
-      ActiveLoad{event.panel, event.arrival_time_s, blast::face_history(kind, wave, options)});
+  blast::PressureHistory history = blast::face_history(kind, wave, options);
+  // What stands between the charge and the panel takes its share (thesis eq. 4.1).
+  if (!model_.shielding.empty())
+    history.scale(kind == blast::FaceKind::front
+                      ? model_.shielding[event.charge * model_.panels.size() + event.panel]
+                      : model_.body_shielding[event.charge * model_.bodies.size() + panel.body]);
+  state_.active.push_back(ActiveLoad{event.panel, event.arrival_time_s, history});
   state_.panel_loaded[event.panel] = 1;
 }
 

@@ -99,9 +99,6 @@ RunOutcome simulate(const scene::Scene& scene, const RunHooks& hooks) {
   }
   const Model model = prepare(scene, sources.bodies, result.bodies, result.stats);
   result.stats.bodies = model.bodies.size();
-  if (scene.simulation.occlusion == scene::OcclusionMode::on)
-    warnings.add("occlusion_unavailable",
-                 "occlusion was requested but is not in this build yet; no object shields another");
 
   Run run(model, result, warnings);
   outcome.cancelled = !run.execute(hooks);

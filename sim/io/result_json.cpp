@@ -87,8 +87,8 @@ json stats_to_json(const engine::Stats& stats) {
   // written too, so "stats" always holds every field.
   const auto& [steps, simulated_time_s, wall_time_s, ended_early, bodies, bodies_anchored,
                bodies_never_released, bodies_slept, bodies_static_in_frames, panels, panels_loaded,
-               panels_back_facing, panels_not_reached, body_steps, occlusion_skipped, panes_broken,
-               panes_not_broken, fragments] = stats;
+               panels_back_facing, panels_not_reached, body_steps, occlusion_skipped,
+               panels_shielded, panes_broken, panes_not_broken, fragments] = stats;
   return json{{"steps", steps},
               {"simulated_time_s", simulated_time_s},
               {"wall_time_s", wall_time_s},
@@ -103,6 +103,7 @@ json stats_to_json(const engine::Stats& stats) {
               {"panels_back_facing", panels_back_facing},
               {"panels_not_reached", panels_not_reached},
               {"body_steps", body_steps},
+              {"panels_shielded", panels_shielded},
               {"occlusion_skipped", occlusion_skipped},
               {"panes_broken", panes_broken},
               {"panes_not_broken", panes_not_broken},

@@ -100,7 +100,7 @@ struct ObjectSpec {
   double friction = 0.5;          // mu of the frictional hold (thesis §3.6), >= 0
   double drag_coefficient = 1.0;  // C_D for blast drag and flight drag
   bool anchored = false;          // never moves
-  bool blocks = true;             // casts a blast shadow (occlusion, later)
+  bool blocks = true;             // may shield others from the blast (sim/occlusion)
   bool rotates = true;            // false: translation only
   // Faces with nothing to reach them from behind (a room behind a window, a wall's far side
   // against the ground): one bit per axis direction of the object's own frame, in the order
@@ -114,6 +114,14 @@ struct ObjectSpec {
 enum class Integrator { explicit_euler, semi_implicit_euler, rk4 };
 enum class OcclusionMode { automatic, on, off };
 
+// The shielding heuristic's parameters (thesis §4.2, sim/occlusion, docs/occlusion.md).
+struct ShieldingSpec {
+  int resolution = 32;  // sphere-map pixels along a face's base; rows are 7/8 of it (32 x 28)
+  double blocking_offset = 1.0;   // eq. 4.1: f reaches 0 at b = offset + slope k
+  double separation_slope = 7.0;  //
+  bool per_panel = true;          // false: one attenuation per object, as the thesis
+};
+
 struct SimulationSpec {
   double duration_s = 2.0;            // (0, max_duration_s]
   double frame_rate_hz = 30.0;        // frames at exact multiples of 1 / frame_rate
@@ -122,6 +130,7 @@ struct SimulationSpec {
   std::uint64_t seed = 0;
   bool clearing = true;
   OcclusionMode occlusion = OcclusionMode::automatic;
+  ShieldingSpec shielding;
   Integrator integrator = Integrator::semi_implicit_euler;
   blast::PulseShape pulse_shape = blast::PulseShape::friedlander;
   double max_panel_area_m2 = 0.05;  // larger faces are cut into panels of at most this

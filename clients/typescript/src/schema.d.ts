@@ -761,6 +761,8 @@ export interface components {
             body_steps: number;
             /** @description No occlusion pass ran. */
             occlusion_skipped: boolean;
+            /** @description (panel, charge) pairs wholly shielded, so never loaded. Absent from results made before shielding. */
+            panels_shielded?: number;
             /** @description Breakable panes cut into fragments. */
             panes_broken: number;
             /** @description Breakable panes whose stress stayed below strength; no fracture work done. */
@@ -1590,10 +1592,31 @@ export interface components {
              */
             clearing?: boolean;
             /**
+             * @description Shielding (thesis ch. 4) - auto runs it when some object's angular footprint can overlap another's, on always, off never.
              * @default auto
              * @enum {string}
              */
             occlusion?: "auto" | "on" | "off";
+            /** @description The shielding heuristic's parameters (docs/occlusion.md). */
+            shielding?: {
+                /**
+                 * @description Sphere-map pixels along a face's base; rows are 7/8 of it (the thesis's 32 x 28).
+                 * @default 32
+                 */
+                resolution?: number;
+                /**
+                 * @description Eq. 4.1 - attenuation reaches 0 at b = blocking_offset + separation_slope k.
+                 * @default 1
+                 */
+                blocking_offset?: number;
+                /** @default 7 */
+                separation_slope?: number;
+                /**
+                 * @description false - one attenuation per object, as the thesis.
+                 * @default true
+                 */
+                per_panel?: boolean;
+            };
             /**
              * @default semi_implicit_euler
              * @enum {string}

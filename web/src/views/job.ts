@@ -14,6 +14,7 @@ const STAT_LABELS: Record<string, string> = {
   bodies_static_in_frames: "Stored once (static)", panels: "Load panels", panels_loaded: "Panels loaded",
   panels_back_facing: "Panels sheltered from every charge", panels_not_reached: "Panels not reached",
   body_steps: "Body steps", occlusion_skipped: "Occlusion skipped",
+  panels_shielded: "Panels wholly shielded",
 };
 
 function statsTable(stats: RunStats): HTMLElement {

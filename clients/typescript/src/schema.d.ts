@@ -814,7 +814,20 @@ export interface components {
             warnings: components["schemas"]["RunWarning"][];
             /** @description One entry per breakable pane, in scene order (empty without panes). */
             fracture?: components["schemas"]["PaneFracture"][];
+            /** @description One entry per charge when a shielding pass ran (docs/occlusion.md), empty otherwise; absent from results made before shielding. */
+            shielding?: components["schemas"]["ChargeShielding"][];
             job: components["schemas"]["Job"];
+        };
+        /** @description What shielded bodies from one charge (thesis ch. 4) - every body whose loads it scaled down, with its area-weighted mean attenuation (bodies at 1 are left out). */
+        ChargeShielding: {
+            /** @description Index into the scene's charges. */
+            charge: number;
+            bodies: {
+                body: number;
+                name: string;
+                /** @description 0 - wholly shielded; 1 - not at all (eq. 4.1). */
+                attenuation: number;
+            }[];
         };
         /** @description Mean, extremes and nearest-rank percentiles of a per-fragment quantity (all 0 when count is 0). */
         Distribution: {

@@ -25,6 +25,21 @@ function statsTable(stats: RunStats): HTMLElement {
       h("td", { class: "num" }, typeof value === "number" ? num(value, 4) : value ? "yes" : "no")))));
 }
 
+// Which bodies each charge's shielding pass scaled down, and by how much (docs/occlusion.md).
+function shieldingSection(result: ResultSummary): HTMLElement | null {
+  const charges = result.shielding ?? [];
+  if (charges.length === 0) return null;
+  return h("section", { id: "job-shielding" },
+    h("h2", null, "Shielding"),
+    charges.map((charge) => charge.bodies.length === 0
+      ? h("p", { class: "muted" }, `Charge ${charge.charge}: nothing shielded.`)
+      : h("table", { class: "kv" },
+          h("caption", null, `Charge ${charge.charge}: load scaled by`),
+          h("tbody", null, charge.bodies.map((body) =>
+            h("tr", null, h("th", null, body.name),
+              h("td", { class: "num" }, body.attenuation === 0 ? "0 (wholly shielded)" : num(body.attenuation, 3))))))));
+}
+
 function infoTable(job: Job): HTMLElement {
   const rows: [string, string | number][] = [
     ["Submitted", dateTime(job.created_at)],
@@ -106,7 +121,8 @@ export const jobView: View = (root, route, signal) => {
             h("li", null, h("code", null, w.code), ` ×${w.count}: ${w.message}`))),
         h("h2", null, "Result"),
         h("p", null, `${result.bodies.length} bodies, ${result.animated.length} moving; ` +
-                     `${result.frame_count} frames over ${num(result.duration, 4)} s.`));
+                     `${result.frame_count} frames over ${num(result.duration, 4)} s.`),
+        shieldingSection(result));
     } catch (error) {
       if (!isAbort(error)) mount(warnings, errorBox(error));
     }

@@ -28,6 +28,13 @@ PanelWave typical_wave() {
 
 using testing::simpson;
 
+// The history's exact integral agrees with quadrature of the piecewise curve.
+void expect_exact_integral(const PressureHistory& history, double duration_s) {
+  const double quad =
+      simpson([&](double t) { return history.pressure_pa(t); }, 0.0, duration_s * (1 - 1e-12));
+  EXPECT_NEAR(history.total_impulse_pa_s(), quad, 1e-6 * quad);
+}
+
 TEST(FrontFace, WithoutClearingIsTheReflectedPulse) {
   const PanelWave wave = typical_wave();
   for (PulseShape shape : {PulseShape::friedlander, PulseShape::triangle_same_impulse}) {
@@ -127,10 +134,7 @@ TEST(RearFace, SideOnPlusRearDragBuildingUpOverThreeSOverU) {
   // The same wave on the Friedlander pulse: the exact integral agrees with quadrature.
   options.shape = PulseShape::friedlander;
   const PanelWave smooth = typical_wave();
-  const PressureHistory curve = rear_face_history(smooth, options);
-  const double quad = simpson([&](double t) { return curve.pressure_pa(t); }, 0.0,
-                              smooth.positive_duration_s * (1 - 1e-12));
-  EXPECT_NEAR(curve.total_impulse_pa_s(), quad, 1e-6 * quad);
+  expect_exact_integral(rear_face_history(smooth, options), smooth.positive_duration_s);
 }
 
 TEST(FaceHistory, DispatchesOnTheFaceKind) {
@@ -162,10 +166,7 @@ TEST(FrontFace, ClearingStartsAtReflectedPressureAndEndsOnStagnation) {
   // Clearing only ever removes impulse.
   options.clearing = false;
   EXPECT_LT(front.total_impulse_pa_s(), front_face_history(wave, options).total_impulse_pa_s());
-  // The exact integral matches quadrature of the piecewise curve.
-  const double quad = simpson([&](double t) { return front.pressure_pa(t); }, 0.0,
-                              wave.positive_duration_s * (1 - 1e-12));
-  EXPECT_NEAR(front.total_impulse_pa_s(), quad, 1e-6 * quad);
+  expect_exact_integral(front, wave.positive_duration_s);
 }
 
 TEST(FrontFace, ClearingOfATinyPanelLeavesTheStagnationImpulse) {

@@ -12,8 +12,10 @@ DEB_PACKAGES := cmake g++ make ninja-build pkg-config \
 # Only the tests need these: chromium for the browser tests, postgresql (15 on Debian 12) for the
 # PostgreSQL store's tests, which start their own server in a temporary folder.
 TEST_DEB_PACKAGES := chromium postgresql
+# Only the deploy/ checks need these (tests/deploy.cmake): systemd-analyze, strace, shellcheck.
+DEPLOY_TEST_DEB_PACKAGES := systemd strace shellcheck
 
-.PHONY: all deps node gltf-validator web web-test-deps build run test sanitize bench load-bench accuracy-study format clean
+.PHONY: all deps node gltf-validator web web-test-deps deploy-test-deps build run test sanitize bench load-bench accuracy-study format clean
 
 all: build
 
@@ -64,6 +66,12 @@ web-test-deps: node
 	$(call apt_install,$(TEST_DEB_PACKAGES))
 	npm ci --prefix tests/web --no-audit --no-fund --loglevel=error
 
+# The deploy/ checks (tests/deploy.cmake): systemd-analyze, strace, shellcheck, and the Kubernetes
+# and Compose schema tools pinned in tests/deploy/package-lock.json.
+deploy-test-deps: node
+	$(call apt_install,$(DEPLOY_TEST_DEB_PACKAGES))
+	npm ci --prefix tests/deploy --no-audit --no-fund --loglevel=error
+
 $(BUILD_DIR)/release/CMakeCache.txt: | deps
 	cmake -S . -B $(BUILD_DIR)/release $(GENERATOR) -DCMAKE_BUILD_TYPE=Release
 
@@ -78,7 +86,7 @@ run: build web
 
 # The whole test suite, built with AddressSanitizer + UndefinedBehaviorSanitizer and warnings as
 # errors, run through CTest.
-test: deps gltf-validator web web-test-deps
+test: deps gltf-validator web web-test-deps deploy-test-deps
 	cmake -S . -B $(BUILD_DIR)/sanitize $(GENERATOR) -DCMAKE_BUILD_TYPE=Sanitize -DBRISANCE_WERROR=ON
 	cmake --build $(BUILD_DIR)/sanitize -j $(JOBS)
 	cd $(BUILD_DIR)/sanitize && ctest --output-on-failure -j $(JOBS)

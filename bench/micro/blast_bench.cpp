@@ -70,7 +70,7 @@ void BM_PulseIntegral(benchmark::State& state) {
 BENCHMARK(BM_PulseIntegral);
 
 void BM_NetPanelHistoryIntegral(benchmark::State& state) {
-  // The cleared net translatory history (five pieces): what one loaded panel costs per step.
+  // The cleared front-face history (five pieces): what one loaded panel costs per step.
   const BlastPoint p = blast_point(Charge{100.0}, 12.0);
   PanelWave wave{p.incident_overpressure_pa, p.incident_impulse_pa_s,
                  p.positive_duration_s,      p.shock_velocity_m_s,
@@ -78,7 +78,7 @@ void BM_NetPanelHistoryIntegral(benchmark::State& state) {
                  p.reflected_impulse_pa_s,   1.0};
   PanelLoadOptions options;
   options.clearing_distance_m = 0.5;
-  const PressureHistory net = net_translatory_history(wave, options);
+  const PressureHistory net = front_face_history(wave, options);
   const double dt = 1e-4;
   double t = 0.0;
   for (auto _ : state) {

@@ -40,35 +40,24 @@ double drag_factor(const PanelWave& wave, const PanelLoadOptions& options) {
   return options.drag_coefficient * wave.cos_incidence * wave.cos_incidence;
 }
 
-// Front-face history minus `side_on_weight` times the side-on pulse.
-PressureHistory front_minus_side_on(const PanelWave& wave, const PanelLoadOptions& options,
-                                    double side_on_weight) {
-  const Pulse incident = incident_pulse(wave, options.shape);
-  const Pulse reflected = reflected_pulse(wave, options.shape);
-  ExpPolyPiece side_on = incident.piece();
+// The pieces of `piece` rising linearly from 0 at t = 0 to full weight at rise_s, then full.
+void add_ramped(PressureHistory& history, const ExpPolyPiece& piece, double rise_s) {
+  if (rise_s <= 0.0) {
+    history.add(piece);
+    return;
+  }
+  history.add(weighted(piece, 0.0, 1.0 / rise_s, 0.0, rise_s));
+  history.add(weighted(piece, 1.0, 0.0, rise_s, 1e300));
+}
 
-  PressureHistory uncleared;
-  uncleared.add(reflected.piece());
-  if (side_on_weight != 0.0) uncleared.add(weighted(side_on, -side_on_weight, 0.0, 0.0, 1e300));
-  if (!options.clearing || options.clearing_distance_m <= 0.0) return uncleared;
-
-  const double clearing_time_s = 3.0 * options.clearing_distance_m / wave.shock_velocity_m_s;
-  const double q_scale = drag_factor(wave, options) * wave.dynamic_pressure_pa;
-  const ExpPolyPiece drag = incident.squared_piece(q_scale);
-  const double blend_end_s = clearing_time_s;
-  const double ramp = 1.0 / clearing_time_s;  // weight of the stagnation curve grows as t / t_c
-
-  PressureHistory cleared;
-  // Reflected pulse fading out over [0, t_c].
-  cleared.add(weighted(reflected.piece(), 1.0, -ramp, 0.0, blend_end_s));
-  // Stagnation pressure p_s + C_D q fading in over [0, t_c], then alone.
-  cleared.add(weighted(side_on, 0.0, ramp, 0.0, blend_end_s));
-  cleared.add(weighted(drag, 0.0, ramp, 0.0, blend_end_s));
-  cleared.add(weighted(side_on, 1.0, 0.0, blend_end_s, 1e300));
-  cleared.add(weighted(drag, 1.0, 0.0, blend_end_s, 1e300));
-  if (cleared.total_impulse_pa_s() >= reflected.total_impulse_pa_s()) return uncleared;
-  if (side_on_weight != 0.0) cleared.add(weighted(side_on, -side_on_weight, 0.0, 0.0, 1e300));
-  return cleared;
+// p_s(t) + C_D q(t), ramped in over rise_s.
+PressureHistory ramped_side_on_plus_drag(const PanelWave& wave, PulseShape shape,
+                                         double drag_coefficient, double rise_s) {
+  const Pulse incident = incident_pulse(wave, shape);
+  PressureHistory history;
+  add_ramped(history, incident.piece(), rise_s);
+  add_ramped(history, incident.squared_piece(drag_coefficient * wave.dynamic_pressure_pa), rise_s);
+  return history;
 }
 
 }  // namespace
@@ -87,11 +76,62 @@ PressureHistory drag_history(const PanelWave& wave, const PanelLoadOptions& opti
 }
 
 PressureHistory front_face_history(const PanelWave& wave, const PanelLoadOptions& options) {
-  return front_minus_side_on(wave, options, 0.0);
+  const Pulse incident = incident_pulse(wave, options.shape);
+  const Pulse reflected = reflected_pulse(wave, options.shape);
+  PressureHistory uncleared;
+  uncleared.add(reflected.piece());
+  if (!options.clearing || options.clearing_distance_m <= 0.0) return uncleared;
+
+  const double clearing_time_s = 3.0 * options.clearing_distance_m / wave.shock_velocity_m_s;
+  const ExpPolyPiece side_on = incident.piece();
+  const ExpPolyPiece drag =
+      incident.squared_piece(drag_factor(wave, options) * wave.dynamic_pressure_pa);
+  const double ramp = 1.0 / clearing_time_s;  // weight of the stagnation curve grows as t / t_c
+
+  PressureHistory cleared;
+  // Reflected pulse fading out over [0, t_c].
+  cleared.add(weighted(reflected.piece(), 1.0, -ramp, 0.0, clearing_time_s));
+  // Stagnation pressure p_s + C_D q fading in over [0, t_c], then alone.
+  add_ramped(cleared, side_on, clearing_time_s);
+  add_ramped(cleared, drag, clearing_time_s);
+  return cleared.total_impulse_pa_s() < reflected.total_impulse_pa_s() ? cleared : uncleared;
 }
 
-PressureHistory net_translatory_history(const PanelWave& wave, const PanelLoadOptions& options) {
-  return front_minus_side_on(wave, options, 1.0);
+FaceKind face_kind(double cos_incidence) {
+  if (cos_incidence > kSideBand) return FaceKind::front;
+  if (cos_incidence < -kSideBand) return FaceKind::rear;
+  return FaceKind::side;
+}
+
+double side_drag_coefficient(double dynamic_pressure_pa) {
+  constexpr double kPsi = 6894.757;  // Pa
+  if (dynamic_pressure_pa <= 25.0 * kPsi) return -0.40;
+  if (dynamic_pressure_pa <= 50.0 * kPsi) return -0.30;
+  return -0.20;
+}
+
+PressureHistory side_face_history(const PanelWave& wave, const PanelLoadOptions& options) {
+  return ramped_side_on_plus_drag(wave, options.shape,
+                                  side_drag_coefficient(wave.dynamic_pressure_pa),
+                                  options.panel_extent_m / wave.shock_velocity_m_s);
+}
+
+PressureHistory rear_face_history(const PanelWave& wave, const PanelLoadOptions& options) {
+  return ramped_side_on_plus_drag(wave, options.shape, kRearDragCoefficient,
+                                  3.0 * options.clearing_distance_m / wave.shock_velocity_m_s);
+}
+
+PressureHistory face_history(FaceKind kind, const PanelWave& wave,
+                             const PanelLoadOptions& options) {
+  switch (kind) {
+    case FaceKind::front:
+      return front_face_history(wave, options);
+    case FaceKind::side:
+      return side_face_history(wave, options);
+    case FaceKind::rear:
+      return rear_face_history(wave, options);
+  }
+  return front_face_history(wave, options);
 }
 
 }  // namespace brisance::blast

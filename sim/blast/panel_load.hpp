@@ -1,5 +1,7 @@
-// sim/blast/panel_load: the pressure histories a blast wave puts on one panel (thesis §2.6.4 and
-// fig. 2.16; DESIGN.md decision 5). Time is measured from the wave's arrival at the panel.
+// sim/blast/panel_load: the pressure histories a blast wave puts on one panel, face by face
+// (thesis §2.6.4 and fig. 2.13; UFC 3-340-02 §2-15.3 for a closed rectangular body; DESIGN.md
+// decision 5). Time is measured from the wave's arrival at the panel. A body's net push is the
+// sum of its faces' loads: nothing here assumes which faces a body has.
 #pragma once
 
 #include "sim/blast/pulse.hpp"
@@ -23,11 +25,27 @@ struct PanelLoadOptions {
   PulseShape shape = PulseShape::friedlander;
   // Relief of the reflected pressure from the panel's edges (thesis eqs. 2.30–2.31).
   bool clearing = true;
-  // S: half the smaller frontal dimension of the loaded body, m. t_c = 3 S / U.
+  // S: half the smaller dimension of the surface the panel lies in, m. A front face clears in
+  // t_c = 3 S / U; a rear face fills in 3 S / U (thesis §2.6.4, "Rear Face").
   double clearing_distance_m = 0.0;
-  // C_D of eq. 2.32; the front face of a block is about 1 (thesis §2.6.4).
+  // The panel's own extent, m: a side face's pressure rises while the wave crosses it.
+  double panel_extent_m = 0.0;
+  // C_D of eq. 2.32 for a front face; the front face of a block is about 1 (thesis §2.6.4).
   double drag_coefficient = 1.0;
 };
+
+// How the wave meets a face, from the cosine of its angle of incidence (the angle between the
+// wave's direction and the face's inward normal): head-on to grazing from the front, grazing
+// (within kSideBand of 90°), or from behind, after wrapping around the body.
+enum class FaceKind : unsigned char { front, side, rear };
+inline constexpr double kSideBand = 0.1;  // |cos α| ≤ 0.1: within 5.7° of grazing
+FaceKind face_kind(double cos_incidence);
+
+// Drag coefficients of the faces the wave does not strike head-on, UFC 3-340-02 table 2-3: side
+// walls and roof -0.40 for a peak dynamic pressure up to 25 psi (172 kPa), -0.30 to 50 psi
+// (345 kPa), -0.20 beyond; rear wall -0.25 to -0.50, of which Brisance takes the middle.
+double side_drag_coefficient(double dynamic_pressure_pa);
+inline constexpr double kRearDragCoefficient = -0.375;
 
 // Side-on overpressure p_s(t) (the incident pulse).
 PressureHistory side_on_history(const PanelWave& wave, PulseShape shape);
@@ -39,9 +57,16 @@ PressureHistory drag_history(const PanelWave& wave, const PanelLoadOptions& opti
 // pressure p_s(t) + C_D q(t) cos^2(alpha) (eqs. 2.30–2.31). As in UFC 3-340-02 §2-15.3, whichever
 // of the cleared and the uncleared curve carries less impulse is used.
 PressureHistory front_face_history(const PanelWave& wave, const PanelLoadOptions& options);
-// Net translatory pressure on a free body's front panel: front face minus the side-on pressure
-// that acts on the body from all sides (thesis fig. 2.16). Without clearing its integral is
-// exactly i_r - i_s.
-PressureHistory net_translatory_history(const PanelWave& wave, const PanelLoadOptions& options);
+// A face the wave grazes (thesis fig. 2.13, middle; UFC 3-340-02 §2-15.3.3): the side-on
+// pressure plus the side drag, p_s(t) + C_D q(t), rising linearly while the wave crosses the
+// panel (panel_extent / U).
+PressureHistory side_face_history(const PanelWave& wave, const PanelLoadOptions& options);
+// A face the wave reaches from behind (thesis fig. 2.13, bottom; UFC 3-340-02 §2-15.3.4): from
+// the wave's arrival at the face (its straight path through the body, which is the length of
+// the body it wrapped around), p_s(t) + C_D q(t) with the rear drag coefficient, building up
+// linearly over 3 S / U as the wave closes in from the face's edges.
+PressureHistory rear_face_history(const PanelWave& wave, const PanelLoadOptions& options);
+// The history of one face kind.
+PressureHistory face_history(FaceKind kind, const PanelWave& wave, const PanelLoadOptions& options);
 
 }  // namespace brisance::blast

@@ -37,7 +37,9 @@ BodySource object_source(const scene::ObjectSpec& object, double max_panel_area_
   source.friction = object.friction;
   source.drag_coefficient = object.drag_coefficient;
   source.anchored = object.anchored;
+  source.blocks = object.blocks;
   source.rotates = object.rotates;
+  source.sheltered = object.sheltered;
   source.unit_mass = geometry::mass_properties(object.mesh, 1.0);
   source.load_panels = geometry::make_panels(object.mesh, max_panel_area_m2);
   return source;

@@ -6,9 +6,10 @@
 //   panes.cpp              breaking one pane into fragment sources (DESIGN.md decision 9)
 //   prepare_holds.cpp      friction holds: the weight each body carries (thesis §3.6)
 //   clearing_surfaces.cpp  clearing distances shared across contiguous coplanar surfaces
+//   prepare_shielding.cpp  each panel's shielding from each charge (sim/occlusion, thesis ch. 4)
 //   prepare.cpp            bodies, panels, charges and the arrival-ordered panel events
-// A new prepare-time system (occlusion: an attenuation per panel, once per charge) is one more
-// stage that fills one more per-panel field of the Model.
+// A new prepare-time system is one more stage that fills one more per-panel field of the Model,
+// as shielding does.
 #pragma once
 
 #include <cstdint>
@@ -51,7 +52,9 @@ struct BodySource {
   double friction = 0.5;
   double drag_coefficient = 1.0;
   bool anchored = false;
+  bool blocks = true;  // may shield others (a broken pane's fragments do not)
   bool rotates = true;
+  std::uint8_t sheltered = 0;                // scene::ObjectSpec::sheltered, in the shape frame
   geometry::MassProperties unit_mass;        // at 1 kg/m^3, shape frame
   std::vector<geometry::Panel> load_panels;  // shape frame
   std::vector<geometry::Panel> drag_panels;  // for the flight-drag shape; empty: load_panels
@@ -84,7 +87,9 @@ struct PanelModel {
   Vec3 centre;
   Vec3 normal;  // outward, unit
   double area_m2;
-  double clearing_distance_m;
+  double clearing_distance_m;  // S of the surface the panel lies in
+  double extent_m;             // the panel's own size, sqrt(area): a side face's rise
+  bool sheltered;              // nothing reaches it from behind (a room behind a window)
 };
 
 struct ChargeModel {
@@ -92,8 +97,11 @@ struct ChargeModel {
   blast::Charge charge;
 };
 
-// The wave of one charge reaching one panel (thesis §3.5.3). The arrival time comes from the
-// Kingery–Bulmash fit at the panel's starting distance rather than from integrating U.
+// The wave of one charge reaching one panel (thesis §3.5.3): on its front, its side or its rear
+// (blast::FaceKind, decided when the wave arrives). The arrival time comes from the
+// Kingery–Bulmash fit at the panel's starting distance rather than from integrating U; for a
+// rear face that distance runs straight through the body, which is the length of the body the
+// wave wrapped around (thesis §2.6.4, "Rear Face").
 struct PanelEvent {
   double arrival_time_s;
   std::uint32_t panel;
@@ -125,6 +133,13 @@ struct Model {
   std::vector<PanelModel> panels;
   std::vector<ChargeModel> charges;
   std::vector<PanelEvent> events;  // ascending arrival time
+  // The shielding of each panel from each charge (thesis ch. 4), charge-major (charge c, panel
+  // p at c * panels.size() + p), in [0, 1]; empty: nothing shields anything. Front faces take
+  // their own; side and rear faces their body's area-weighted mean (body_shielding, c *
+  // bodies.size() + b): the side-on pressure around a body nearly balances, and the pixel noise
+  // of per-panel values on opposite faces would turn it into a sideways push.
+  std::vector<float> shielding;
+  std::vector<float> body_shielding;
   dynamics::WorldSettings world;
   std::optional<dynamics::Ground> ground;
   blast::PanelLoadOptions load_options;
@@ -168,6 +183,12 @@ std::vector<double> supported_weights(const std::vector<BodySource>& sources, do
 // Widens each panel's clearing distance to the contiguous coplanar surface it lies in
 // (clearing_surfaces.cpp).
 void share_clearing_across_surfaces(const std::vector<BodySource>& sources, Model& model);
+
+// Each panel's shielding from each charge, once per charge before stepping (the wave outruns
+// the debris, thesis §4.2.2): fills model.shielding, or leaves it empty where the scene asks for
+// none or nothing can shadow anything (prepare_shielding.cpp).
+void prepare_shielding(const scene::SimulationSpec& simulation,
+                       const std::vector<BodySource>& sources, Model& model, Stats& stats);
 
 // The read-only model; moves each source's mesh into `bodies` (the result's body list).
 Model prepare(const scene::Scene& scene, std::vector<BodySource>& sources,

@@ -213,6 +213,7 @@ PaneReport break_pane(const scene::ObjectSpec& object, std::size_t index,
     BodySource body;
     body.name = object.name + "/f" + std::to_string(k);
     body.fragment = true;
+    body.blocks = false;  // the glass the wave itself breaks shields nothing behind it
     body.frontal_area_m2 = piece.area_m2;
     body.unit_mass = geometry::prism_mass_properties(local, thickness, 1.0);
     fragment_panels(local, thickness, 0.5 * shorter, own_clearing, body);
@@ -233,6 +234,7 @@ PaneReport break_pane(const scene::ObjectSpec& object, std::size_t index,
     body.friction = object.friction;
     body.drag_coefficient = object.drag_coefficient;
     body.rotates = object.rotates;
+    body.sheltered = object.sheltered;
     out.push_back(std::move(body));
   }
   return report;

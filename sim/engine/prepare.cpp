@@ -100,9 +100,10 @@ void prepare_body(BodySource& source, double normal_force_n, double gravity, Mod
   stats.panels += panels.size();
   if (!source.anchored) {
     for (const geometry::Panel& panel : panels)
-      model.panels.push_back(PanelModel{index, panel.centre - unit.centre_of_mass,
-                                        panel.outward_normal, panel.area_m2,
-                                        panel.face_half_size_m});
+      model.panels.push_back(
+          PanelModel{index, panel.centre - unit.centre_of_mass, panel.outward_normal, panel.area_m2,
+                     panel.face_half_size_m, std::sqrt(panel.area_m2),
+                     scene::is_sheltered(source.sheltered, panel.outward_normal)});
   }
   model.bodies.push_back(std::move(body));
   model.centre_of_mass.push_back(unit.centre_of_mass);
@@ -131,7 +132,10 @@ void prepare_body(BodySource& source, double normal_force_n, double gravity, Mod
   model.supported.push_back(!breakaway && motion == Motion::held && !on_ground);
 }
 
-// Events: every panel that faces a charge; a panel facing none is never loaded.
+// Events: every panel is loaded by every charge, on its front, its side or its rear (face by
+// face, sim/blast/panel_load), except a sheltered panel facing away from the charge. A face
+// against the ground or a neighbour is no exception: the wave reaches it from its edges, as it
+// does a rear face, and opposite faces of a body in a wall or on the ground balance.
 void prepare_events(const std::vector<BodySource>& sources, Model& model, Stats& stats) {
   for (std::uint32_t p = 0; p < model.panels.size(); ++p) {
     const PanelModel& panel = model.panels[p];
@@ -139,16 +143,26 @@ void prepare_events(const std::vector<BodySource>& sources, Model& model, Stats&
     const Vec3 world_com = object.position + object.orientation * model.centre_of_mass[panel.body];
     const Vec3 centre = world_com + object.orientation * panel.centre;
     const Vec3 normal = object.orientation * panel.normal;
-    bool facing_any = false;
+    bool sheltered_from_all = true;
     for (std::uint32_t c = 0; c < model.charges.size(); ++c) {
       const Vec3 d = centre - model.charges[c].position;
       const double distance = std::max(d.norm(), 1e-3);
-      if (normal.dot(d) >= 0.0) continue;  // back-facing (thesis §3.2.1: front panels only)
-      facing_any = true;
+      const blast::FaceKind kind = blast::face_kind(-normal.dot(d) / distance);
+      if (panel.sheltered && kind != blast::FaceKind::front)
+        continue;  // nothing reaches it from behind
+      sheltered_from_all = false;
+      // Wholly shielded from this charge (thesis eq. 4.1 at f = 0): no load at all.
+      if (!model.shielding.empty() &&
+          (kind == blast::FaceKind::front
+               ? model.shielding[c * model.panels.size() + p]
+               : model.body_shielding[c * model.bodies.size() + panel.body]) <= 0.0f) {
+        ++stats.panels_shielded;
+        continue;
+      }
       const blast::BlastPoint point = blast::blast_point(model.charges[c].charge, distance);
       model.events.push_back(PanelEvent{point.arrival_time_s, p, c});
     }
-    if (!facing_any) ++stats.panels_back_facing;
+    if (sheltered_from_all) ++stats.panels_back_facing;
   }
   std::sort(model.events.begin(), model.events.end(), [](const PanelEvent& a, const PanelEvent& b) {
     if (a.arrival_time_s != b.arrival_time_s) return a.arrival_time_s < b.arrival_time_s;
@@ -181,6 +195,7 @@ Model prepare(const scene::Scene& scene, std::vector<BodySource>& sources,
       if (model.fragment[model.panels[p].body]) model.panels[p].clearing_distance_m = own[p];
   }
 
+  prepare_shielding(scene.simulation, sources, model, stats);
   prepare_events(sources, model, stats);
 
   // The result's bodies, each with its mesh (moved out of its source: prepare is done with it).

@@ -45,10 +45,11 @@ struct Stats {
   std::uint64_t bodies_static_in_frames = 0;  // stored once instead of per frame
   std::uint64_t panels = 0;
   std::uint64_t panels_loaded = 0;
-  std::uint64_t panels_back_facing = 0;  // facing away from every charge: never loaded
+  std::uint64_t panels_back_facing = 0;  // sheltered and facing away from every charge
   std::uint64_t panels_not_reached = 0;  // the wave arrived after the run ended
   std::uint64_t body_steps = 0;          // bodies integrated, summed over steps
   bool occlusion_skipped = true;         // no occlusion pass ran
+  std::uint64_t panels_shielded = 0;     // (panel, charge) pairs wholly shielded: no load
   std::uint64_t panes_broken = 0;        // breakable panes cut into fragments
   std::uint64_t panes_not_broken = 0;    // stress below strength: no fracture work at all
   std::uint64_t fragments = 0;           // fragment bodies made
@@ -106,6 +107,17 @@ struct Warning {
   std::uint64_t count = 1;
 };
 
+// What shielded bodies from one charge (thesis ch. 4): each body whose loads the charge's
+// shielding pass scaled down, with its area-weighted mean attenuation over its panels.
+struct ShieldedBody {
+  std::uint32_t body = 0;    // index into Result::bodies
+  double attenuation = 1.0;  // in [0, 1): 0 wholly shielded
+};
+struct ChargeShielding {
+  std::uint32_t charge = 0;          // index into the scene's charges
+  std::vector<ShieldedBody> bodies;  // ascending body index; bodies at 1 are left out
+};
+
 struct Result {
   std::vector<BodyInfo> bodies;
   // Indices into `bodies` of the bodies that move; frames store poses only for these.
@@ -116,7 +128,8 @@ struct Result {
   std::vector<FinalState> final_state;  // one per body, in body order
   Stats stats;
   std::vector<Warning> warnings;
-  std::vector<PaneReport> fracture;  // one per breakable pane, in scene order
+  std::vector<PaneReport> fracture;        // one per breakable pane, in scene order
+  std::vector<ChargeShielding> shielding;  // one per charge, when a shielding pass ran
 
   const Pose& pose(std::size_t frame, std::size_t animated_index) const {
     return poses[frame * animated.size() + animated_index];

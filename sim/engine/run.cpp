@@ -31,31 +31,41 @@ void Run::activate(const PanelEvent& event) {
   const Vec3 d = centre - charge.position;
   const double distance = std::max(d.norm(), 1e-3);
   const double cos_incidence = -normal.dot(d) / distance;
-  if (cos_incidence <= 0.0) return;  // turned away since the run began
+  const blast::FaceKind kind = blast::face_kind(cos_incidence);
+  // A sheltered face (a room behind a window) is loaded only by a wave that strikes it.
+  if (panel.sheltered && kind != blast::FaceKind::front) return;
   const blast::BlastPoint point = blast::blast_point(charge.charge, distance);
-  const double angle = std::acos(std::min(1.0, cos_incidence));
-  const blast::ObliqueReflection reflection = blast::oblique_reflection(
-      point.incident_overpressure_pa, point.incident_impulse_pa_s, point.reflected_overpressure_pa,
-      point.reflected_impulse_pa_s, angle);
   if (!point.in_validity_range) warnings_.add("blast_out_of_range", kBlastOutOfRangeMessage);
-  if (!reflection.in_chart_range)
-    warnings_.add("reflection_out_of_chart",
-                  "a panel's incident overpressure lies outside the reflection chart "
-                  "(1.4 kPa - 34.5 MPa); the nearest chart curve was used");
   blast::PanelWave wave;
   wave.incident_overpressure_pa = point.incident_overpressure_pa;
   wave.incident_impulse_pa_s = point.incident_impulse_pa_s;
   wave.positive_duration_s = point.positive_duration_s;
   wave.shock_velocity_m_s = point.shock_velocity_m_s;
   wave.dynamic_pressure_pa = point.dynamic_pressure_pa;
-  wave.reflected_overpressure_pa = reflection.overpressure_pa;
-  wave.reflected_impulse_pa_s = reflection.impulse_pa_s;
-  wave.cos_incidence = cos_incidence;
+  wave.cos_incidence = std::max(cos_incidence, 0.0);
+  if (kind == blast::FaceKind::front) {
+    const blast::ObliqueReflection reflection =
+        blast::oblique_reflection(point.incident_overpressure_pa, point.incident_impulse_pa_s,
+                                  point.reflected_overpressure_pa, point.reflected_impulse_pa_s,
+                                  std::acos(std::min(1.0, cos_incidence)));
+    if (!reflection.in_chart_range)
+      warnings_.add("reflection_out_of_chart",
+                    "a panel's incident overpressure lies outside the reflection chart "
+                    "(1.4 kPa - 34.5 MPa); the nearest chart curve was used");
+    wave.reflected_overpressure_pa = reflection.overpressure_pa;
+    wave.reflected_impulse_pa_s = reflection.impulse_pa_s;
+  }
   blast::PanelLoadOptions options = model_.load_options;
   options.clearing_distance_m = panel.clearing_distance_m;
+  options.panel_extent_m = panel.extent_m;
   options.drag_coefficient = model_.bodies[panel.body].drag_coefficient;
-  state_.active.push_back(
-      ActiveLoad{event.panel, event.arrival_time_s, blast::net_translatory_history(wave, options)});
+  blast::PressureHistory history = blast::face_history(kind, wave, options);
+  // What stands between the charge and the panel takes its share (thesis eq. 4.1).
+  if (!model_.shielding.empty())
+    history.scale(kind == blast::FaceKind::front
+                      ? model_.shielding[event.charge * model_.panels.size() + event.panel]
+                      : model_.body_shielding[event.charge * model_.bodies.size() + panel.body]);
+  state_.active.push_back(ActiveLoad{event.panel, event.arrival_time_s, history});
   state_.panel_loaded[event.panel] = 1;
 }
 
@@ -108,12 +118,28 @@ void Run::release_held(double t0, double t1) {
       // A fragment breaks free once the wave has reached its centroid and its load beats its
       // hold (thesis §6.7); the loads of its panels reached earlier are taken by the hold.
       const double not_before = model_.release_not_before_s[body];
+      const bool fragment = model_.fragment[body] != 0;
       if (t1 < not_before || state_.peak_force_n[body].norm() <= hold) {
-        loads = dynamics::StepLoads{};  // static friction takes the whole load
+        // A fragment's load moves its pane until it breaks free; a resting body's is taken by
+        // static friction.
+        if (fragment) {
+          dynamics::StepLoads& deferred = state_.deferred[body];
+          deferred.impulse += loads.impulse;
+          deferred.angular_impulse += loads.angular_impulse;
+        }
+        loads = dynamics::StepLoads{};
         continue;
       }
       state_.motion[body] = Motion::awake;
-      if (model_.fragment[body]) state_.release_time_s[body] = std::max(t0, not_before);
+      if (fragment) {
+        state_.release_time_s[body] = std::max(t0, not_before);
+        // What it took while held acts at the start of this step.
+        const dynamics::StepLoads& deferred = state_.deferred[body];
+        loads.impulse += deferred.impulse;
+        loads.angular_impulse += deferred.angular_impulse;
+        loads.impulse_moment += (t1 - t0) * deferred.impulse;
+        state_.deferred[body] = dynamics::StepLoads{};
+      }
     }
     // Thesis eq. 2.40, M x'' + R = F(t) with R = mu N: while the wave pushes a body off its
     // support, friction takes mu N of the push from the load's arrival on, so the body gains the
@@ -238,6 +264,7 @@ void Run::init() {
   state_.is_loaded.assign(bodies, 0);
   state_.peak_force_n.assign(bodies, Vec3::Zero());
   state_.loaded_from_s.assign(bodies, 0.0);
+  state_.deferred.assign(bodies, dynamics::StepLoads{});
   state_.loads.assign(bodies, dynamics::StepLoads{});
   state_.release_time_s.assign(bodies, -1.0);
   state_.launch_speed_m_s.assign(bodies, -1.0);

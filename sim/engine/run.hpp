@@ -40,6 +40,9 @@ struct RunState {
   // released does not depend on the step size.
   std::vector<Vec3> peak_force_n;
   std::vector<double> loaded_from_s;
+  // Fragments held in their pane: the loads taken while held, world frame, given to the
+  // fragment when it breaks free (the pane bends and moves with them before it cracks through).
+  std::vector<dynamics::StepLoads> deferred;
   // Fragments: when each broke free and its speed once its blast load ended (launch), or -1.
   std::vector<double> release_time_s;
   std::vector<double> launch_speed_m_s;

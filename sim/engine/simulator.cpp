@@ -99,9 +99,17 @@ RunOutcome simulate(const scene::Scene& scene, const RunHooks& hooks) {
   }
   const Model model = prepare(scene, sources.bodies, result.bodies, result.stats);
   result.stats.bodies = model.bodies.size();
-  if (scene.simulation.occlusion == scene::OcclusionMode::on)
-    warnings.add("occlusion_unavailable",
-                 "occlusion was requested but is not in this build yet; no object shields another");
+  if (!model.body_shielding.empty()) {
+    const std::size_t bodies = model.bodies.size();
+    for (std::uint32_t c = 0; c < model.charges.size(); ++c) {
+      ChargeShielding& charge = result.shielding.emplace_back();
+      charge.charge = c;
+      for (std::uint32_t b = 0; b < bodies; ++b) {
+        const float f = model.body_shielding[c * bodies + b];
+        if (f < 1.0f) charge.bodies.push_back({b, f});
+      }
+    }
+  }
 
   Run run(model, result, warnings);
   outcome.cancelled = !run.execute(hooks);

@@ -2,6 +2,7 @@
 #include "sim/geometry/mesh.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cassert>
 #include <cmath>
 #include <cstddef>
@@ -11,6 +12,7 @@
 #include <tuple>
 #include <utility>
 
+#include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
 
 #include "sim/geometry/disjoint_sets.hpp"
@@ -31,9 +33,6 @@ constexpr double kCoplanarAngleRad = 1e-6;
 // other's plane. For edge-adjacent triangles this is the stricter test on any face wider than a
 // thousandth of the mesh: it keeps slight folds apart, but not rounding noise.
 constexpr double kCoplanarOffsetFraction = 1e-9;
-// At most this many sub-triangles per face (4^8 = 65536): a pathological max_panel_area stops
-// subdividing here instead of exhausting memory; the engine counts panels against its own limit.
-constexpr std::size_t kMaxSubTrianglesPerFace = std::size_t{1} << 16;
 
 struct Box3 {
   Vec3 min = Vec3::Constant(std::numeric_limits<double>::infinity());
@@ -298,35 +297,6 @@ double face_half_size(const TriangleMesh& mesh, const std::vector<std::uint32_t>
   return 0.5 * minimal_width(points);
 }
 
-// Appends the 4^level similar sub-triangles that `level` rounds of midpoint subdivision cut from
-// triangle (a, b, c), as panels of the given normal and half size. The sub-triangles tile the
-// triangle as a grid of n = 2^level steps along b − a and c − a: n(n+1)/2 pointing like the
-// parent and n(n−1)/2 pointing the other way.
-void append_subdivided(const Vec3& a, const Vec3& b, const Vec3& c, double area_m2, int level,
-                       const Vec3& normal, double half_size_m, std::vector<Panel>& panels) {
-  const std::size_t n = std::size_t{1} << level;
-  const double sub_area_m2 = std::ldexp(area_m2, -2 * level);  // exact: a power of two
-  const Vec3 step_b = (b - a) / (3.0 * static_cast<double>(n));
-  const Vec3 step_c = (c - a) / (3.0 * static_cast<double>(n));
-  const auto add = [&](std::size_t thirds_b, std::size_t thirds_c) {
-    Panel panel;
-    panel.centre =
-        a + static_cast<double>(thirds_b) * step_b + static_cast<double>(thirds_c) * step_c;
-    panel.outward_normal = normal;
-    panel.area_m2 = sub_area_m2;
-    panel.face_half_size_m = half_size_m;
-    panels.push_back(panel);
-  };
-  for (std::size_t i = 0; i < n; ++i) {
-    for (std::size_t j = 0; i + j < n; ++j) {
-      // Corners (i, j), (i+1, j), (i, j+1) in grid steps; the centroid is their mean.
-      add(3 * i + 1, 3 * j + 1);
-      // Corners (i+1, j), (i+1, j+1), (i, j+1), inside the triangle when i + j ≤ n − 2.
-      if (i + j + 2 <= n) add(3 * i + 2, 3 * j + 2);
-    }
-  }
-}
-
 // The triangles' normals and areas and their grouping into faces: what make_panels and
 // count_panels both start from, so they cannot disagree about the faces.
 struct PanelFaces {
@@ -352,33 +322,173 @@ PanelFaces panel_faces(const TriangleMesh& mesh) {
   return result;
 }
 
-// A face's area (summed in triangle order) and its largest triangle's, m^2.
+// A face's area (summed in triangle order), m^2.
 struct FaceArea {
   double area_m2 = 0.0;
-  double largest_triangle_m2 = 0.0;
 };
 
 FaceArea face_area(const std::vector<std::uint32_t>& face, const std::vector<TriangleInfo>& info) {
   FaceArea result;
   for (std::uint32_t t : face) {
     result.area_m2 += info[t].area_m2;
-    result.largest_triangle_m2 = std::max(result.largest_triangle_m2, info[t].area_m2);
   }
   return result;
 }
 
-// How often the triangles of a face larger than max_panel_area_m2 are subdivided: the smallest
-// level that brings every sub-triangle down to the limit, within the cap on sub-triangles.
-int subdivision_level(const FaceArea& area, std::size_t face_triangles, double max_panel_area_m2) {
-  int level = 0;
-  std::size_t pieces = 1;  // 4^level
-  while (std::ldexp(area.largest_triangle_m2, -2 * level) > max_panel_area_m2 &&
-         face_triangles * pieces * 4 <= kMaxSubTrianglesPerFace) {
-    ++level;
-    pieces *= 4;
+// The panels of a face larger than max_panel_area_m2: a grid of equal rectangular cells in the
+// face's plane, along the principal axes of its area and centred on its centroid, each cell's
+// panel the part of the face inside it (its exact area and centroid, from the face's triangles
+// clipped to the cell). The grid does not depend on how the face is triangulated, and it is
+// symmetric wherever the face is, so a symmetric wave puts no torque on a symmetric face.
+class FaceGrid {
+ public:
+  FaceGrid(const TriangleMesh& mesh, const std::vector<std::uint32_t>& face,
+           const std::vector<TriangleInfo>& info, const Vec3& normal, const Vec3& centre,
+           double max_panel_area_m2)
+      : mesh_(mesh), face_(face), centre_(centre) {
+    // Second moment of the face's area about its centroid in a plane basis (e1, e2), from
+    // integral of x x^T over a triangle = A/12 (a a^T + b b^T + c c^T + s s^T), s = a + b + c.
+    const Vec3 e1 = any_perpendicular(normal);
+    const Vec3 e2 = normal.cross(e1);
+    Eigen::Matrix2d second = Eigen::Matrix2d::Zero();
+    for (std::uint32_t t : face) {
+      Vec2 corner[3];
+      for (int k = 0; k < 3; ++k) {
+        const Vec3 r = mesh.vertices[mesh.triangles[t][static_cast<std::size_t>(k)]] - centre;
+        corner[k] = Vec2(r.dot(e1), r.dot(e2));
+      }
+      const Vec2 sum = corner[0] + corner[1] + corner[2];
+      second += info[t].area_m2 / 12.0 *
+                (corner[0] * corner[0].transpose() + corner[1] * corner[1].transpose() +
+                 corner[2] * corner[2].transpose() + sum * sum.transpose());
+    }
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> solver(second);
+    const Vec2 axis =
+        solver.eigenvalues()(1) - solver.eigenvalues()(0) > 1e-9 * solver.eigenvalues()(1)
+            ? Vec2(solver.eigenvectors().col(1))
+            : Vec2(1.0, 0.0);  // no principal direction: any, say e1
+    u_ = axis.x() * e1 + axis.y() * e2;
+    v_ = normal.cross(u_);
+    double half_u = 0.0, half_v = 0.0;
+    for (std::uint32_t t : face) {
+      for (std::uint32_t index : mesh.triangles[t]) {
+        const Vec3 r = mesh.vertices[index] - centre;
+        half_u = std::max(half_u, std::abs(r.dot(u_)));
+        half_v = std::max(half_v, std::abs(r.dot(v_)));
+      }
+    }
+    // Square-ish cells of side at most sqrt(max area), at most kMaxCellsPerFace of them.
+    const double side = std::sqrt(max_panel_area_m2);
+    const double most = static_cast<double>(kMaxCellsPerFace);
+    double along_u = std::clamp(std::ceil(2.0 * half_u / side), 1.0, most);
+    double along_v = std::clamp(std::ceil(2.0 * half_v / side), 1.0, most);
+    while (along_u * along_v > most) {
+      along_u = std::max(1.0, std::floor(along_u / 2.0));
+      along_v = std::max(1.0, std::floor(along_v / 2.0));
+    }
+    cells_u_ = static_cast<std::size_t>(along_u);
+    cells_v_ = static_cast<std::size_t>(along_v);
+    origin_ = Vec2(-half_u, -half_v);
+    cell_ = Vec2(2.0 * half_u / static_cast<double>(cells_u_),
+                 2.0 * half_v / static_cast<double>(cells_v_));
   }
-  return level;
-}
+
+  // Calls visit(area, centroid) for each cell the face covers, in cell order.
+  template <typename Visit>
+  void for_each_panel(Visit&& visit) const {
+    const std::size_t n = cells_u_ * cells_v_;
+    std::vector<double> area(n, 0.0);
+    std::vector<Vec2> moment(n, Vec2::Zero());
+    for (std::uint32_t t : face_) {
+      Polygon2 triangle;
+      for (std::uint32_t index : mesh_.triangles[t]) {
+        const Vec3 r = mesh_.vertices[index] - centre_;
+        triangle.push(Vec2(r.dot(u_), r.dot(v_)) - origin_);
+      }
+      Vec2 low = triangle.point[0], high = triangle.point[0];
+      for (std::size_t k = 1; k < 3; ++k) {
+        low = low.cwiseMin(triangle.point[k]);
+        high = high.cwiseMax(triangle.point[k]);
+      }
+      const std::size_t i0 = cell_index(low.x(), cell_.x(), cells_u_);
+      const std::size_t i1 = cell_index(high.x(), cell_.x(), cells_u_);
+      const std::size_t j0 = cell_index(low.y(), cell_.y(), cells_v_);
+      const std::size_t j1 = cell_index(high.y(), cell_.y(), cells_v_);
+      for (std::size_t j = j0; j <= j1; ++j) {
+        for (std::size_t i = i0; i <= i1; ++i) {
+          // The outer cells reach to infinity, so rounding at the face's rim loses nothing.
+          const double x0 = i == 0 ? -INFINITY : static_cast<double>(i) * cell_.x();
+          const double x1 = i + 1 == cells_u_ ? INFINITY : static_cast<double>(i + 1) * cell_.x();
+          const double y0 = j == 0 ? -INFINITY : static_cast<double>(j) * cell_.y();
+          const double y1 = j + 1 == cells_v_ ? INFINITY : static_cast<double>(j + 1) * cell_.y();
+          Polygon2 piece = triangle;
+          piece = clip(piece, 0, x0, +1.0);
+          piece = clip(piece, 0, x1, -1.0);
+          piece = clip(piece, 1, y0, +1.0);
+          piece = clip(piece, 1, y1, -1.0);
+          double doubled = 0.0;
+          Vec2 six_moment = Vec2::Zero();
+          for (std::size_t k = 0; k < piece.size; ++k) {
+            const Vec2& a = piece.point[k];
+            const Vec2& b = piece.point[(k + 1) % piece.size];
+            const double cross = a.x() * b.y() - b.x() * a.y();
+            doubled += cross;
+            six_moment += cross * (a + b);
+          }
+          area[j * cells_u_ + i] += 0.5 * doubled;
+          moment[j * cells_u_ + i] += six_moment / 6.0;
+        }
+      }
+    }
+    const double smallest = 1e-12 * cell_.x() * cell_.y();
+    for (std::size_t c = 0; c < n; ++c) {
+      if (!(area[c] > smallest)) continue;
+      const Vec2 local = moment[c] / area[c] + origin_;
+      visit(area[c], centre_ + local.x() * u_ + local.y() * v_);
+    }
+  }
+
+ private:
+  // A convex polygon of at most 7 corners (a triangle clipped by four half-planes).
+  struct Polygon2 {
+    Polygon2() { point.fill(Vec2::Zero()); }
+    std::array<Vec2, 8> point;
+    std::size_t size = 0;
+    void push(const Vec2& p) { point[size++] = p; }
+  };
+
+  static std::size_t cell_index(double x, double cell, std::size_t cells) {
+    const double i = std::floor(x / cell);
+    if (!(i > 0.0)) return 0;
+    return std::min(cells - 1, static_cast<std::size_t>(i));
+  }
+
+  // The part of `in` where sign * (p[axis] - bound) >= 0 (Sutherland–Hodgman, one edge).
+  static Polygon2 clip(const Polygon2& in, int axis, double bound, double sign) {
+    if (!std::isfinite(bound) || in.size == 0) return in;
+    Polygon2 out;
+    for (std::size_t k = 0; k < in.size; ++k) {
+      const Vec2& a = in.point[k];
+      const Vec2& b = in.point[(k + 1) % in.size];
+      const double da = sign * (a[axis] - bound);
+      const double db = sign * (b[axis] - bound);
+      if (da >= 0.0) out.push(a);
+      if ((da >= 0.0) != (db >= 0.0)) out.push(a + (b - a) * (da / (da - db)));
+    }
+    return out;
+  }
+
+  static constexpr std::size_t kMaxCellsPerFace = std::size_t{1} << 16;
+  const TriangleMesh& mesh_;
+  const std::vector<std::uint32_t>& face_;
+  Vec3 centre_;
+  Vec3 u_ = Vec3::UnitX();
+  Vec3 v_ = Vec3::UnitY();
+  Vec2 origin_ = Vec2::Zero();
+  Vec2 cell_ = Vec2::Ones();
+  std::size_t cells_u_ = 1;
+  std::size_t cells_v_ = 1;
+};
 
 }  // namespace
 
@@ -507,6 +617,33 @@ MassProperties mass_properties(const TriangleMesh& mesh, double density_kg_m3) {
   return props;
 }
 
+namespace {
+
+// A face's unit normal and area centroid (centroids summed relative to `reference`, for
+// accuracy).
+struct FaceFrame {
+  Vec3 normal;
+  Vec3 centre;
+};
+
+FaceFrame face_frame(const TriangleMesh& mesh, const std::vector<std::uint32_t>& face,
+                     const std::vector<TriangleInfo>& info, double area_m2, const Vec3& reference) {
+  Vec3 doubled_vector_area_sum = Vec3::Zero();
+  Vec3 area_moment = Vec3::Zero();  // Σ area (centroid − reference)
+  for (std::uint32_t t : face) {
+    const auto& tri = mesh.triangles[t];
+    const Vec3 centroid_from_reference =
+        ((mesh.vertices[tri[0]] - reference) + (mesh.vertices[tri[1]] - reference) +
+         (mesh.vertices[tri[2]] - reference)) /
+        3.0;
+    doubled_vector_area_sum += 2.0 * info[t].area_m2 * info[t].unit_normal;
+    area_moment += info[t].area_m2 * centroid_from_reference;
+  }
+  return {doubled_vector_area_sum.normalized(), reference + area_moment / area_m2};
+}
+
+}  // namespace
+
 std::vector<Panel> make_panels(const TriangleMesh& mesh, double max_panel_area_m2) {
   assert(max_panel_area_m2 > 0.0);  // also false for NaN
   std::vector<Panel> panels;
@@ -514,35 +651,18 @@ std::vector<Panel> make_panels(const TriangleMesh& mesh, double max_panel_area_m
 
   const PanelFaces faces = panel_faces(mesh);
   const std::vector<TriangleInfo>& info = faces.info;
-  const Vec3 reference = faces.box.centre();  // centroids are summed relative to it, for accuracy
-
   for (const auto& face : faces.faces) {
     const FaceArea area = face_area(face, info);
-    Vec3 doubled_vector_area_sum = Vec3::Zero();
-    Vec3 area_moment = Vec3::Zero();  // Σ area (centroid − reference)
-    for (std::uint32_t t : face) {
-      const auto& tri = mesh.triangles[t];
-      const Vec3 centroid_from_reference =
-          ((mesh.vertices[tri[0]] - reference) + (mesh.vertices[tri[1]] - reference) +
-           (mesh.vertices[tri[2]] - reference)) /
-          3.0;
-      doubled_vector_area_sum += 2.0 * info[t].area_m2 * info[t].unit_normal;
-      area_moment += info[t].area_m2 * centroid_from_reference;
-    }
-    const Vec3 normal = doubled_vector_area_sum.normalized();
-    const Vec3 centre = reference + area_moment / area.area_m2;
-    const double half_size_m = face_half_size(mesh, face, normal, centre);
-
+    const FaceFrame frame = face_frame(mesh, face, info, area.area_m2, faces.box.centre());
+    const double half_size_m = face_half_size(mesh, face, frame.normal, frame.centre);
     if (area.area_m2 <= max_panel_area_m2) {
-      panels.push_back({centre, normal, area.area_m2, half_size_m});
+      panels.push_back({frame.centre, frame.normal, area.area_m2, half_size_m});
       continue;
     }
-    const int level = subdivision_level(area, face.size(), max_panel_area_m2);
-    for (std::uint32_t t : face) {
-      const auto& tri = mesh.triangles[t];
-      append_subdivided(mesh.vertices[tri[0]], mesh.vertices[tri[1]], mesh.vertices[tri[2]],
-                        info[t].area_m2, level, normal, half_size_m, panels);
-    }
+    const FaceGrid grid(mesh, face, info, frame.normal, frame.centre, max_panel_area_m2);
+    grid.for_each_panel([&](double area_m2, const Vec3& centroid) {
+      panels.push_back({centroid, frame.normal, area_m2, half_size_m});
+    });
   }
   return panels;
 }
@@ -558,8 +678,9 @@ std::size_t count_panels(const TriangleMesh& mesh, double max_panel_area_m2) {
       ++count;
       continue;
     }
-    // append_subdivided cuts each triangle into 4^level panels.
-    count += face.size() << (2 * subdivision_level(area, face.size(), max_panel_area_m2));
+    const FaceFrame frame = face_frame(mesh, face, faces.info, area.area_m2, faces.box.centre());
+    const FaceGrid grid(mesh, face, faces.info, frame.normal, frame.centre, max_panel_area_m2);
+    grid.for_each_panel([&](double, const Vec3&) { ++count; });
   }
   return count;
 }

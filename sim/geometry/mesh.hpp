@@ -53,8 +53,10 @@ struct Panel {
 
 // Panels of a closed mesh: edge-connected coplanar triangles (normals within 1e-6 rad) are
 // grouped into faces; a face no larger than max_panel_area_m2 is one panel, a larger one is cut
-// into panels of at most that area (each triangle split into 4^k similar triangles), so a large
-// face close to a charge is loaded panel by panel. Panel areas sum to the mesh's surface area.
+// into panels of at most that area by a grid along the principal axes of its area, centred on
+// its centroid (each panel the part of the face in one cell, with its exact area and centroid),
+// so a large face close to a charge is loaded panel by panel and the panels do not depend on how
+// the face is triangulated. Panel areas sum to the mesh's surface area.
 std::vector<Panel> make_panels(const TriangleMesh& mesh, double max_panel_area_m2);
 
 // make_panels(mesh, max_panel_area_m2).size(), without making the panels: for limits checks.

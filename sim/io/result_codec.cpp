@@ -53,7 +53,8 @@ json result_summary(const engine::Result& result) {
               {"final_state", std::move(final_state)},
               {"stats", stats_to_json(result.stats)},
               {"warnings", std::move(warnings)},
-              {"fracture", fracture_to_json(result.fracture)}};
+              {"fracture", fracture_to_json(result.fracture)},
+              {"shielding", shielding_to_json(result)}};
 }
 
 std::string meshes_document_json(std::span<const engine::BodyInfo> bodies,

@@ -87,8 +87,8 @@ json stats_to_json(const engine::Stats& stats) {
   // written too, so "stats" always holds every field.
   const auto& [steps, simulated_time_s, wall_time_s, ended_early, bodies, bodies_anchored,
                bodies_never_released, bodies_slept, bodies_static_in_frames, panels, panels_loaded,
-               panels_back_facing, panels_not_reached, body_steps, occlusion_skipped, panes_broken,
-               panes_not_broken, fragments] = stats;
+               panels_back_facing, panels_not_reached, body_steps, occlusion_skipped,
+               panels_shielded, panes_broken, panes_not_broken, fragments] = stats;
   return json{{"steps", steps},
               {"simulated_time_s", simulated_time_s},
               {"wall_time_s", wall_time_s},
@@ -103,6 +103,7 @@ json stats_to_json(const engine::Stats& stats) {
               {"panels_back_facing", panels_back_facing},
               {"panels_not_reached", panels_not_reached},
               {"body_steps", body_steps},
+              {"panels_shielded", panels_shielded},
               {"occlusion_skipped", occlusion_skipped},
               {"panes_broken", panes_broken},
               {"panes_not_broken", panes_not_broken},
@@ -144,6 +145,19 @@ json pane_to_json(const engine::PaneReport& pane) {
               {"empirical_mean_speed_m_s", pane.empirical_mean_speed_m_s}};
 }
 
+json shielding_to_json(const engine::Result& result) {
+  json list = json::array();
+  for (const engine::ChargeShielding& charge : result.shielding) {
+    json bodies = json::array();
+    for (const engine::ShieldedBody& body : charge.bodies)
+      bodies.push_back({{"body", body.body},
+                        {"name", result.bodies[body.body].name},
+                        {"attenuation", body.attenuation}});
+    list.push_back({{"charge", charge.charge}, {"bodies", std::move(bodies)}});
+  }
+  return list;
+}
+
 json fracture_to_json(const std::vector<engine::PaneReport>& panes) {
   json list = json::array();
   for (const engine::PaneReport& pane : panes)
@@ -169,10 +183,13 @@ json result_to_json(const engine::Result& result) {
   for (const engine::Warning& warning : result.warnings)
     warnings.push_back(warning_to_json(warning));
 
-  return json{
-      {"bodies", std::move(bodies)},           {"frames", std::move(frames)},
-      {"final_state", std::move(final_state)}, {"fracture", fracture_to_json(result.fracture)},
-      {"stats", stats_to_json(result.stats)},  {"warnings", std::move(warnings)}};
+  return json{{"bodies", std::move(bodies)},
+              {"frames", std::move(frames)},
+              {"final_state", std::move(final_state)},
+              {"fracture", fracture_to_json(result.fracture)},
+              {"shielding", shielding_to_json(result)},
+              {"stats", stats_to_json(result.stats)},
+              {"warnings", std::move(warnings)}};
 }
 
 // The same text as result_to_json(result).dump() and a newline, written element by element:
@@ -193,6 +210,7 @@ void write_result_json(const engine::Result& result, std::ostream& out) {
   out << ",\"fracture\":" << fracture_to_json(result.fracture).dump();
   out << ",\"frames\":";
   write_frames_array(out, frames_of(result));
+  out << ",\"shielding\":" << shielding_to_json(result).dump();
   out << ",\"stats\":" << stats_to_json(result.stats).dump();
   out << ",\"warnings\":";
   stream_array(out, result.warnings.size(),

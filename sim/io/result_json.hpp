@@ -30,6 +30,9 @@ nlohmann::json distribution_to_json(const engine::Distribution& distribution);
 nlohmann::json pane_to_json(const engine::PaneReport& pane);
 // One entry per breakable pane (engine::Result::fracture); an empty array without panes.
 nlohmann::json fracture_to_json(const std::vector<engine::PaneReport>& panes);
+// The shielding report, one entry per charge whose pass ran: [{"charge", "bodies": [{"body",
+// "name", "attenuation"}]}] (bodies at attenuation 1 left out); [] when none ran.
+nlohmann::json shielding_to_json(const engine::Result& result);
 void write_result_json(const engine::Result& result, std::ostream& out);
 
 }  // namespace brisance::io

@@ -134,6 +134,7 @@ std::vector<ObjectSpec> window(const WindowParams& params) {
   pane.material = params.material;
   pane.fracture = params.fracture;
   pane.fracture->framed = params.frame;
+  if (params.sheltered_back) pane.sheltered = kShelteredBack;
   objects.push_back(std::move(pane));
   if (!params.frame) return objects;
   // Bottom and top bars run the full outer width; the sides fill the height between them.

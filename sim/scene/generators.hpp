@@ -73,6 +73,9 @@ struct WindowParams {
   double density_kg_m3 = 2500.0;
   double friction = 0.9;
   bool frame = true;
+  // A room behind the pane: its back (−z of the window's frame) is loaded only by a wave that
+  // strikes it, never by one wrapping around (the pane's ObjectSpec::sheltered).
+  bool sheltered_back = true;
   double frame_width_m = 0.05;
   double frame_depth_m = 0.07;
   double frame_density_kg_m3 = 500.0;  // wood

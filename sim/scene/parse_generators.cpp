@@ -123,7 +123,7 @@ std::vector<ObjectSpec> parse_window(const GeneratorContext& context) {
   const ErrorScope scope(errors);
   const Fields fields(value, pointer, errors, "a window generator",
                       {"type", "name", "position", "orientation", "size", "thickness", "material",
-                       "frame", "frame_width", "frame_depth", "fracture"});
+                       "frame", "frame_width", "frame_depth", "sheltered_back", "fracture"});
   WindowParams window_params;
   if (auto name = fields.required_name("name")) window_params.name = *name;
   window_params.position = fields.vec3("position", Vec3::Zero(), any_number("m"));
@@ -164,6 +164,7 @@ std::vector<ObjectSpec> parse_window(const GeneratorContext& context) {
     window_params.friction = material->friction;
   }
   window_params.frame = fields.boolean("frame", true);
+  window_params.sheltered_back = fields.boolean("sheltered_back", true);
   window_params.frame_width_m =
       fields.number("frame_width", window_params.frame_width_m, positive("m"));
   window_params.frame_depth_m =

@@ -239,7 +239,7 @@ std::optional<FractureSpec> parse_fracture(const json& value, const std::string&
   spec.frame_strength_pa =
       fields.number("frame_strength", spec.frame_strength_pa, non_negative("Pa"));
   spec.frame_bite_m = fields.number("frame_bite", spec.frame_bite_m, positive("m"));
-  spec.clearing = fields.choice("clearing", FractureSpec::Clearing::fragment, kFractureClearings);
+  spec.clearing = fields.choice("clearing", FractureSpec::Clearing::pane, kFractureClearings);
   // The material's values, then the explicit ones.
   const bool breakable = material && material->strength_pa > 0.0;
   if (breakable) {
@@ -263,6 +263,34 @@ std::optional<FractureSpec> parse_fracture(const json& value, const std::string&
   return spec;
 }
 
+// "sheltered": ["-z", ...]: the object-frame directions whose faces nothing reaches from behind.
+std::uint8_t parse_sheltered(const json& value, const std::string& pointer, Errors& errors) {
+  const std::string expected =
+      "'sheltered' must be an array of axis directions of the object's "
+      "own frame, each one of \"+x\", \"-x\", \"+y\", \"-y\", "
+      "\"+z\", \"-z\"";
+  if (!value.is_array()) {
+    errors.add(pointer, expected + "; got " + describe(value));
+    return 0;
+  }
+  std::uint8_t mask = 0;
+  for (std::size_t i = 0; i < value.size(); ++i) {
+    const json& item = value[i];
+    bool known = false;
+    for (std::size_t axis = 0; axis < 6 && item.is_string(); ++axis) {
+      if (item.get_ref<const std::string&>() == kShelteredAxes[axis]) {
+        if (mask & (1u << axis))
+          errors.add(child(pointer, i), "'sheltered' lists " + in_quotes(kShelteredAxes[axis]) +
+                                            " twice; list each direction once");
+        mask = static_cast<std::uint8_t>(mask | (1u << axis));
+        known = true;
+      }
+    }
+    if (!known) errors.add(child(pointer, i), expected + "; got " + describe(item));
+  }
+  return mask;
+}
+
 std::optional<SceneObject> parse_object(const json& value, const std::string& pointer,
                                         const Limits& limits, Errors& errors) {
   if (!expect_object(value, pointer, "an object", errors)) return std::nullopt;
@@ -270,7 +298,7 @@ std::optional<SceneObject> parse_object(const json& value, const std::string& po
   const Fields fields(
       value, pointer, errors, "an object",
       {"name", "shape", "position", "orientation", "mass", "density", "friction",
-       "drag_coefficient", "anchored", "blocks", "rotates", "material", "fracture"});
+       "drag_coefficient", "anchored", "blocks", "rotates", "sheltered", "material", "fracture"});
   ObjectSpec object;
   if (auto name = fields.required_name("name")) object.name = *name;
 
@@ -320,6 +348,8 @@ std::optional<SceneObject> parse_object(const json& value, const std::string& po
   object.anchored = fields.boolean("anchored", false);
   object.blocks = fields.boolean("blocks", true);
   object.rotates = fields.boolean("rotates", true);
+  if (const json* sheltered = fields.get("sheltered"))
+    object.sheltered = parse_sheltered(*sheltered, fields.at("sheltered"), errors);
   if (const json* fracture = fields.get("fracture")) {
     object.fracture = parse_fracture(*fracture, fields.at("fracture"), material, true, errors);
     if (object.fracture && shape_ok) {

@@ -113,14 +113,30 @@ EnvironmentSpec parse_environment(const json& value, const std::string& pointer,
   return environment;
 }
 
+// {"resolution", "blocking_offset", "separation_slope", "per_panel"}: the shielding heuristic.
+ShieldingSpec parse_shielding(const json& value, const std::string& pointer, Errors& errors) {
+  ShieldingSpec spec;
+  if (!expect_object(value, pointer, "'shielding'", errors)) return spec;
+  const Fields fields(value, pointer, errors, "'shielding'",
+                      {"resolution", "blocking_offset", "separation_slope", "per_panel"});
+  if (fields.get("resolution")) {
+    if (auto resolution = fields.required_integer("resolution", 4, 128))
+      spec.resolution = static_cast<int>(*resolution);
+  }
+  spec.blocking_offset = fields.number("blocking_offset", spec.blocking_offset, positive());
+  spec.separation_slope = fields.number("separation_slope", spec.separation_slope, non_negative());
+  spec.per_panel = fields.boolean("per_panel", spec.per_panel);
+  return spec;
+}
+
 SimulationSpec parse_simulation(const json& value, const std::string& pointer, const Limits& limits,
                                 Errors& errors) {
   SimulationSpec simulation;
   if (!expect_object(value, pointer, "'simulation'", errors)) return simulation;
   const Fields fields(value, pointer, errors, "'simulation'",
                       {"duration", "frame_rate", "time_step", "tolerance", "seed", "clearing",
-                       "occlusion", "integrator", "pulse", "max_panel_area", "linear_damping",
-                       "angular_damping", "rotation_factor", "sleep"});
+                       "occlusion", "shielding", "integrator", "pulse", "max_panel_area",
+                       "linear_damping", "angular_damping", "rotation_factor", "sleep"});
   simulation.duration_s =
       fields.number("duration", simulation.duration_s,
                     range(0.0, true, limits.max_duration_s, false, "s", "max_duration_s"));
@@ -154,6 +170,8 @@ SimulationSpec parse_simulation(const json& value, const std::string& pointer, c
   }
   simulation.clearing = fields.boolean("clearing", simulation.clearing);
   simulation.occlusion = fields.choice("occlusion", simulation.occlusion, kOcclusionModes);
+  if (const json* shielding = fields.get("shielding"))
+    simulation.shielding = parse_shielding(*shielding, fields.at("shielding"), errors);
   simulation.integrator = fields.choice("integrator", simulation.integrator, kIntegrators);
   simulation.pulse_shape = fields.choice("pulse", simulation.pulse_shape, kPulseShapes);
   simulation.max_panel_area_m2 =

@@ -146,4 +146,13 @@ ParseResult parse_scene_text(std::string_view text, const Limits& limits) {
   return parse_scene(document, limits);
 }
 
+bool is_sheltered(std::uint8_t mask, const Vec3& normal) {
+  constexpr double kCos45 = 0.70710678118654752;
+  for (int axis = 0; axis < 3; ++axis) {
+    if ((mask & (1u << (2 * axis))) && normal[axis] > kCos45) return true;
+    if ((mask & (1u << (2 * axis + 1))) && -normal[axis] > kCos45) return true;
+  }
+  return false;
+}
+
 }  // namespace brisance::scene

@@ -22,6 +22,13 @@ namespace brisance::scene {
 using Vec3 = Eigen::Vector3d;
 using Quat = Eigen::Quaterniond;
 
+// The names of ObjectSpec::sheltered's bits, bit k for kShelteredAxes[k].
+inline constexpr std::string_view kShelteredAxes[6] = {"+x", "-x", "+y", "-y", "+z", "-z"};
+inline constexpr std::uint8_t kShelteredBack = 1u << 5;  // "-z": behind a window's pane
+
+// Whether a face with this outward normal (object frame, unit) is sheltered by `mask`.
+bool is_sheltered(std::uint8_t mask, const Vec3& normal);
+
 struct ChargeSpec {
   Vec3 position = Vec3::Zero();   // world, m
   double mass_kg = 1.0;           // mass of explosive, > 0
@@ -76,9 +83,10 @@ struct FractureSpec {
   double bond_strength_pa = 1e3;
   double frame_strength_pa = 138e3;
   double frame_bite_m = 0.01;
-  // fragment: each fragment clears from its own edges (thesis §6.5: larger fragments fly
-  // faster); pane: every fragment clears from the pane's edges.
-  Clearing clearing = Clearing::fragment;
+  // pane: every fragment clears from the edges of the surface its pane lies in, as the pane
+  // does (the cracks are closed while the wave loads it); fragment: each fragment clears from
+  // its own edges (thesis §6.5), which takes most of a fragment's load within microseconds.
+  Clearing clearing = Clearing::pane;
 };
 
 struct ObjectSpec {
@@ -88,18 +96,31 @@ struct ObjectSpec {
   geometry::TriangleMesh mesh;     // the shape as a mesh in its own frame (boxes included)
   Vec3 position = Vec3::Zero();    // world position of the shape's origin, m
   Quat orientation = Quat::Identity();
-  double mass_kg = 0.0;                  // resolved: given mass, or density * volume
-  double friction = 0.5;                 // mu of the frictional hold (thesis §3.6), >= 0
-  double drag_coefficient = 1.0;         // C_D for blast drag and flight drag
-  bool anchored = false;                 // never moves
-  bool blocks = true;                    // casts a blast shadow (occlusion, later)
-  bool rotates = true;                   // false: translation only
+  double mass_kg = 0.0;           // resolved: given mass, or density * volume
+  double friction = 0.5;          // mu of the frictional hold (thesis §3.6), >= 0
+  double drag_coefficient = 1.0;  // C_D for blast drag and flight drag
+  bool anchored = false;          // never moves
+  bool blocks = true;             // may shield others from the blast (sim/occlusion)
+  bool rotates = true;            // false: translation only
+  // Faces with nothing to reach them from behind (a room behind a window, a wall's far side
+  // against the ground): one bit per axis direction of the object's own frame, in the order
+  // +x, -x, +y, -y, +z, -z (kShelteredAxes). A face whose outward normal lies within 45° of a
+  // sheltered direction is loaded only by a wave that strikes it, never by one wrapping around.
+  std::uint8_t sheltered = 0;
   std::string material;                  // optional name from the materials table
   std::optional<FractureSpec> fracture;  // breakable pane (box shapes only)
 };
 
 enum class Integrator { explicit_euler, semi_implicit_euler, rk4 };
 enum class OcclusionMode { automatic, on, off };
+
+// The shielding heuristic's parameters (thesis §4.2, sim/occlusion, docs/occlusion.md).
+struct ShieldingSpec {
+  int resolution = 32;  // sphere-map pixels along a face's base; rows are 7/8 of it (32 x 28)
+  double blocking_offset = 1.0;   // eq. 4.1: f reaches 0 at b = offset + slope k
+  double separation_slope = 7.0;  //
+  bool per_panel = true;          // false: one attenuation per object, as the thesis
+};
 
 struct SimulationSpec {
   double duration_s = 2.0;            // (0, max_duration_s]
@@ -109,6 +130,7 @@ struct SimulationSpec {
   std::uint64_t seed = 0;
   bool clearing = true;
   OcclusionMode occlusion = OcclusionMode::automatic;
+  ShieldingSpec shielding;
   Integrator integrator = Integrator::semi_implicit_euler;
   blast::PulseShape pulse_shape = blast::PulseShape::friedlander;
   double max_panel_area_m2 = 0.05;  // larger faces are cut into panels of at most this

@@ -165,13 +165,16 @@ function analyse(png) {
   }
   const background = [...counts.entries()].sort((a, b) => b[1] - a[1])[0][0];
   const bg = [(background >> 10) << 3, ((background >> 5) & 31) << 3, (background & 31) << 3];
-  let differing = 0, red = 0;
+  let differing = 0, red = 0, vivid = 0;
   for (let i = 0; i < width * height; i++) {
     const r = pixels[i * 4], g = pixels[i * 4 + 1], b = pixels[i * 4 + 2];
     if (Math.abs(r - bg[0]) + Math.abs(g - bg[1]) + Math.abs(b - bg[2]) > 30) differing++;
     if (r > 150 && g < 90 && b < 90) red++;
+    // Saturated colour that is not the charge's red: the player's blue-green-red colour ramp
+    // (the sky, the ground and the grid are grey-blue).
+    else if (Math.max(r, g, b) - Math.min(r, g, b) > 70) vivid++;
   }
-  return { width, height, differing: differing / (width * height), colours: counts.size, red, pixels };
+  return { width, height, differing: differing / (width * height), colours: counts.size, red, vivid, pixels };
 }
 
 function changedShare(a, b) {
@@ -299,6 +302,34 @@ try {
     await page.locator("#jobs-table .empty").waitFor();
     await page.selectOption("#status-filter", "succeeded");
     await page.locator(`#jobs-table tr[data-job="${jobId}"]`).waitFor();
+  });
+
+  await test("the player shows a broken window coloured by release time", page, async () => {
+    // scenes/window.json: 10 kg TNT 10 m in front of a framed 1.2 x 0.9 m pane, which breaks
+    // into hundreds of fragments; submitted through the API, watched in the player.
+    const scene = JSON.parse(fs.readFileSync(path.join(path.dirname(webDist), "..", "scenes", "window.json"), "utf8"));
+    scene.simulation.duration = 0.5;
+    const posted = await fetch(`${open.url}/v1/jobs`, {
+      method: "POST", headers: { "content-type": "application/json" }, body: JSON.stringify({ scene }) });
+    check(posted.status === 202, `POST /v1/jobs answered ${posted.status}`);
+    const windowJob = (await posted.json()).id;
+    await page.goto(`${open.url}/#/jobs/${windowJob}`);
+    await page.locator(`.progress.large[data-job="${windowJob}"][data-status="succeeded"]`).waitFor({ timeout: JOB_TIMEOUT });
+    await page.goto(`${open.url}/#/jobs/${windowJob}/player`);
+    await page.locator('#player-stage[data-state="ready"]').waitFor({ timeout: 60_000 });
+    await page.click("#play-pause");  // pause at the start: the pane whole in its frame
+    await page.locator("#scrub").fill("0");
+    await page.waitForTimeout(300);
+    check(await page.inputValue("#colour-by") === "release", `colour mode ${await page.inputValue("#colour-by")}`);
+    check(await page.locator("#player-legend").isVisible(), "no legend for the release-time colours");
+    check(/ms/.test(await page.textContent("#player-legend .legend-high")), "legend without times");
+    const start = analyse(await page.locator("#player-canvas").screenshot({ path: path.join(artifacts, "player-window.png") }));
+    console.log(`     window: ${start.vivid} pixels in the release-time colours, ${start.colours} colours`);
+    // The pane, 1.2 x 0.9 m with the charge 10 m away in the same view, must be a visible part of
+    // the picture in its fragments' colours (about 3 000 pixels at 1156 x 631).
+    check(start.vivid > 1000, `the window shows in only ${start.vivid} coloured pixels`);
+    check(start.colours > 30, `only ${start.colours} colours: blank or flat canvas`);
+    await shot(page, "player-window");
   });
 
   await test("blast calculator plots P_so, i_s and t_a on log-log axes", page, async () => {

@@ -753,7 +753,7 @@ export interface components {
             bodies_static_in_frames: number;
             panels: number;
             panels_loaded: number;
-            /** @description Facing away from every charge, never loaded. */
+            /** @description Sheltered and facing away from every charge, never loaded. */
             panels_back_facing: number;
             /** @description The wave arrived after the run ended. */
             panels_not_reached: number;
@@ -761,6 +761,8 @@ export interface components {
             body_steps: number;
             /** @description No occlusion pass ran. */
             occlusion_skipped: boolean;
+            /** @description (panel, charge) pairs wholly shielded, so never loaded. Absent from results made before shielding. */
+            panels_shielded?: number;
             /** @description Breakable panes cut into fragments. */
             panes_broken: number;
             /** @description Breakable panes whose stress stayed below strength; no fracture work done. */
@@ -812,7 +814,20 @@ export interface components {
             warnings: components["schemas"]["RunWarning"][];
             /** @description One entry per breakable pane, in scene order (empty without panes). */
             fracture?: components["schemas"]["PaneFracture"][];
+            /** @description One entry per charge when a shielding pass ran (docs/occlusion.md), empty otherwise; absent from results made before shielding. */
+            shielding?: components["schemas"]["ChargeShielding"][];
             job: components["schemas"]["Job"];
+        };
+        /** @description What shielded bodies from one charge (thesis ch. 4) - every body whose loads it scaled down, with its area-weighted mean attenuation (bodies at 1 are left out). */
+        ChargeShielding: {
+            /** @description Index into the scene's charges. */
+            charge: number;
+            bodies: {
+                body: number;
+                name: string;
+                /** @description 0 - wholly shielded; 1 - not at all (eq. 4.1). */
+                attenuation: number;
+            }[];
         };
         /** @description Mean, extremes and nearest-rank percentiles of a per-fragment quantity (all 0 when count is 0). */
         Distribution: {
@@ -1295,6 +1310,8 @@ export interface components {
              * @default true
              */
             rotates?: boolean;
+            /** @description Directions of the object's own frame whose faces nothing reaches from behind (a room behind a window); such a face is loaded only by a wave that strikes it. */
+            sheltered?: ("+x" | "-x" | "+y" | "-y" | "+z" | "-z")[];
             material?: components["schemas"]["MaterialName"];
             fracture?: components["schemas"]["Fracture"];
         } | {
@@ -1356,8 +1373,8 @@ export interface components {
              */
             frame_bite?: number;
             /**
-             * @description fragment - each fragment clears from its own edges (thesis §6.5); pane - from the pane's.
-             * @default fragment
+             * @description pane - every fragment clears from the edges of the surface its pane lies in; fragment - each from its own edges (thesis §6.5).
+             * @default pane
              * @enum {string}
              */
             clearing?: "fragment" | "pane";
@@ -1468,6 +1485,11 @@ export interface components {
              * @default 0.07
              */
             frame_depth?: number;
+            /**
+             * @description A room behind the pane - its back (-z of the window's frame) is loaded only by a wave that strikes it.
+             * @default true
+             */
+            sheltered_back?: boolean;
             fracture?: components["schemas"]["Fracture"];
         };
         /**
@@ -1583,10 +1605,31 @@ export interface components {
              */
             clearing?: boolean;
             /**
+             * @description Shielding (thesis ch. 4) - auto runs it when some object's angular footprint can overlap another's, on always, off never.
              * @default auto
              * @enum {string}
              */
             occlusion?: "auto" | "on" | "off";
+            /** @description The shielding heuristic's parameters (docs/occlusion.md). */
+            shielding?: {
+                /**
+                 * @description Sphere-map pixels along a face's base; rows are 7/8 of it (the thesis's 32 x 28).
+                 * @default 32
+                 */
+                resolution?: number;
+                /**
+                 * @description Eq. 4.1 - attenuation reaches 0 at b = blocking_offset + separation_slope k.
+                 * @default 1
+                 */
+                blocking_offset?: number;
+                /** @default 7 */
+                separation_slope?: number;
+                /**
+                 * @description false - one attenuation per object, as the thesis.
+                 * @default true
+                 */
+                per_panel?: boolean;
+            };
             /**
              * @default semi_implicit_euler
              * @enum {string}

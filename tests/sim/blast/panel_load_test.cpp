@@ -1,4 +1,5 @@
-// Tests of sim/blast/panel_load: the front face with clearing, the net translatory load, drag.
+// Tests of sim/blast/panel_load: front, side and rear faces (thesis fig. 2.13, UFC 3-340-02
+// §2-15.3) against hand-computed histories, clearing, drag.
 #include "sim/blast/panel_load.hpp"
 
 #include <cmath>
@@ -27,18 +28,126 @@ PanelWave typical_wave() {
 
 using testing::simpson;
 
-TEST(NetTranslatory, WithoutClearingCarriesExactlyReflectedMinusIncidentImpulse) {
+// The history's exact integral agrees with quadrature of the piecewise curve.
+void expect_exact_integral(const PressureHistory& history, double duration_s) {
+  const double quad =
+      simpson([&](double t) { return history.pressure_pa(t); }, 0.0, duration_s * (1 - 1e-12));
+  EXPECT_NEAR(history.total_impulse_pa_s(), quad, 1e-6 * quad);
+}
+
+TEST(FrontFace, WithoutClearingIsTheReflectedPulse) {
   const PanelWave wave = typical_wave();
   for (PulseShape shape : {PulseShape::friedlander, PulseShape::triangle_same_impulse}) {
     PanelLoadOptions options;
     options.shape = shape;
     options.clearing = false;
-    const PressureHistory net = net_translatory_history(wave, options);
-    const double expected = wave.reflected_impulse_pa_s - wave.incident_impulse_pa_s;
-    EXPECT_NEAR(net.total_impulse_pa_s(), expected, 1e-9 * expected);
-    EXPECT_NEAR(net.pressure_pa(0.0),
-                wave.reflected_overpressure_pa - wave.incident_overpressure_pa, 1e-6);
+    const PressureHistory front = front_face_history(wave, options);
+    EXPECT_NEAR(front.total_impulse_pa_s(), wave.reflected_impulse_pa_s,
+                1e-9 * wave.reflected_impulse_pa_s);
+    EXPECT_NEAR(front.pressure_pa(0.0), wave.reflected_overpressure_pa, 1e-6);
   }
+}
+
+TEST(FaceKind, FrontSideAndRearByTheAngleOfIncidence) {
+  EXPECT_EQ(face_kind(1.0), FaceKind::front);
+  EXPECT_EQ(face_kind(0.11), FaceKind::front);
+  EXPECT_EQ(face_kind(0.1), FaceKind::side);
+  EXPECT_EQ(face_kind(0.0), FaceKind::side);
+  EXPECT_EQ(face_kind(-0.1), FaceKind::side);
+  EXPECT_EQ(face_kind(-0.11), FaceKind::rear);
+  EXPECT_EQ(face_kind(-1.0), FaceKind::rear);
+}
+
+TEST(SideDrag, UfcTable2_3ByDynamicPressure) {
+  constexpr double psi = 6894.757;
+  EXPECT_EQ(side_drag_coefficient(1e3), -0.40);
+  EXPECT_EQ(side_drag_coefficient(24.9 * psi), -0.40);
+  EXPECT_EQ(side_drag_coefficient(25.1 * psi), -0.30);
+  EXPECT_EQ(side_drag_coefficient(49.9 * psi), -0.30);
+  EXPECT_EQ(side_drag_coefficient(50.1 * psi), -0.20);
+}
+
+// A triangular wave, where every face's history can be written down by hand:
+// p_s(t) = P (1 - t/T), q(t) = q_s (1 - t/T)^2 for t < T.
+struct HandWave {
+  double P = 60e3, T = 2.0 * 110.0 / 60e3, q = 0.0, U = 0.0;
+  double pressure(double t, double drag, double rise) const {
+    if (t < 0.0 || t >= T) return 0.0;
+    const double u = 1.0 - t / T;
+    return (P * u + drag * q * u * u) * std::min(1.0, t / rise);
+  }
+  // Integral of pressure over [0, T]: the ramped part by its closed form.
+  double impulse(double drag, double rise) const {
+    // With r = rise / T <= 1: integral_0^r (x/r)(P(1-x) + C q (1-x)^2) T dx + integral_r^1 ...
+    const double r = rise / T;
+    const double c = drag * q;
+    const double full = T * (P * (1 - r) * (1 - r) / 2 + c * std::pow(1 - r, 3) / 3);
+    const double ramp =
+        T / r *
+        (P * (r * r / 2 - r * r * r / 3) + c * (r * r / 2 - 2 * r * r * r / 3 + r * r * r * r / 4));
+    return full + ramp;
+  }
+};
+
+PanelWave triangle_wave(const HandWave& hand) {
+  PanelWave wave = typical_wave();
+  wave.incident_overpressure_pa = hand.P;
+  wave.incident_impulse_pa_s = 0.5 * hand.P * hand.T;
+  wave.positive_duration_s = hand.T;
+  wave.shock_velocity_m_s = hand.U;
+  wave.dynamic_pressure_pa = hand.q;
+  return wave;
+}
+
+TEST(SideFace, SideOnPlusSideDragRisingWhileTheWaveCrossesThePanel) {
+  HandWave hand;
+  hand.q = rh_dynamic_pressure_pa(hand.P);
+  hand.U = rh_shock_velocity_m_s(hand.P);
+  const PanelWave wave = triangle_wave(hand);
+  PanelLoadOptions options;
+  options.shape = PulseShape::triangle_same_impulse;
+  options.panel_extent_m = 0.3;  // crossed in 0.3 / U, about 0.7 ms
+  const double rise = 0.3 / hand.U;
+  const PressureHistory side = side_face_history(wave, options);
+  for (double t : {0.0, 0.25 * rise, rise, 1.5e-3, 3e-3})
+    EXPECT_NEAR(side.pressure_pa(t), hand.pressure(t, -0.40, rise), 1e-6 * hand.P) << t;
+  const double expected = hand.impulse(-0.40, rise);
+  EXPECT_NEAR(side.total_impulse_pa_s(), expected, 1e-9 * expected);
+}
+
+TEST(RearFace, SideOnPlusRearDragBuildingUpOverThreeSOverU) {
+  HandWave hand;
+  hand.q = rh_dynamic_pressure_pa(hand.P);
+  hand.U = rh_shock_velocity_m_s(hand.P);
+  const PanelWave wave = triangle_wave(hand);
+  PanelLoadOptions options;
+  options.shape = PulseShape::triangle_same_impulse;
+  options.clearing_distance_m = 0.2;
+  const double rise = 3.0 * 0.2 / hand.U;
+  const PressureHistory rear = rear_face_history(wave, options);
+  EXPECT_EQ(rear.pressure_pa(0.0), 0.0);  // no jump: it builds up from the edges
+  for (double t : {0.1 * rise, rise, 2e-3, 3.5e-3})
+    EXPECT_NEAR(rear.pressure_pa(t), hand.pressure(t, kRearDragCoefficient, rise), 1e-6 * hand.P)
+        << t;
+  const double expected = hand.impulse(kRearDragCoefficient, rise);
+  EXPECT_NEAR(rear.total_impulse_pa_s(), expected, 1e-9 * expected);
+  // The same wave on the Friedlander pulse: the exact integral agrees with quadrature.
+  options.shape = PulseShape::friedlander;
+  const PanelWave smooth = typical_wave();
+  expect_exact_integral(rear_face_history(smooth, options), smooth.positive_duration_s);
+}
+
+TEST(FaceHistory, DispatchesOnTheFaceKind) {
+  const PanelWave wave = typical_wave();
+  PanelLoadOptions options;
+  options.clearing_distance_m = 0.3;
+  options.panel_extent_m = 0.1;
+  EXPECT_EQ(face_history(FaceKind::front, wave, options).total_impulse_pa_s(),
+            front_face_history(wave, options).total_impulse_pa_s());
+  EXPECT_EQ(face_history(FaceKind::side, wave, options).total_impulse_pa_s(),
+            side_face_history(wave, options).total_impulse_pa_s());
+  EXPECT_EQ(face_history(FaceKind::rear, wave, options).total_impulse_pa_s(),
+            rear_face_history(wave, options).total_impulse_pa_s());
 }
 
 TEST(FrontFace, ClearingStartsAtReflectedPressureAndEndsOnStagnation) {
@@ -57,10 +166,7 @@ TEST(FrontFace, ClearingStartsAtReflectedPressureAndEndsOnStagnation) {
   // Clearing only ever removes impulse.
   options.clearing = false;
   EXPECT_LT(front.total_impulse_pa_s(), front_face_history(wave, options).total_impulse_pa_s());
-  // The exact integral matches quadrature of the piecewise curve.
-  const double quad = simpson([&](double t) { return front.pressure_pa(t); }, 0.0,
-                              wave.positive_duration_s * (1 - 1e-12));
-  EXPECT_NEAR(front.total_impulse_pa_s(), quad, 1e-6 * quad);
+  expect_exact_integral(front, wave.positive_duration_s);
 }
 
 TEST(FrontFace, ClearingOfATinyPanelLeavesTheStagnationImpulse) {

@@ -5,6 +5,7 @@
 #include <set>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -19,41 +20,46 @@ scene::Scene load(const std::string& name) {
   return testing::load_example_scene(name);
 }
 
-std::set<std::string> moved(const Result& r) {
-  std::set<std::string> names;
-  for (std::uint32_t b : r.animated)
-    names.insert(r.bodies[b].name);
-  return names;
-}
-
 TEST(ExampleScenes, BrickWallIsBlownApart) {
   // Thesis §3.6: 100 kg of TNT 15 m behind the wall; every brick goes, and bricks high on the
-  // wall, carrying less weight, fly farther (measured: bottom row 0.09 m, top row 0.2-0.87 m).
+  // wall, carrying less weight, fly farther: row by row, each row lands farther on average than
+  // the one below (measured with face-by-face loading: bottom row 0.23 m, top row 0.58 m).
   const Result r = simulate(load("brick_wall.json")).result;
   EXPECT_EQ(r.bodies.size(), 33u);
   EXPECT_EQ(r.animated.size(), 33u);
-  double bottom = 0.0, top = 0.0;
-  int bottom_count = 0, top_count = 0;
+  double sum[6] = {};
+  int count[6] = {};
   for (const FinalState& f : r.final_state) {
     EXPECT_GT(f.pose.position[2], 0.05) << f.name;  // away from the charge at z = -15
-    if (f.name.rfind("wall/r0/", 0) == 0) bottom += f.pose.position[2], ++bottom_count;
-    if (f.name.rfind("wall/r5/", 0) == 0) top += f.pose.position[2], ++top_count;
+    const int row = f.name[6] - '0';                // "wall/r<row>/..."
+    ASSERT_TRUE(row >= 0 && row < 6) << f.name;
+    sum[row] += f.pose.position[2];
+    ++count[row];
   }
-  EXPECT_GT(top / top_count, 3.0 * bottom / bottom_count);
+  for (int row = 1; row < 6; ++row)
+    EXPECT_GT(sum[row] / count[row], sum[row - 1] / count[row - 1]) << "row " << row;
+  EXPECT_GT(sum[5] / count[5], 2.0 * sum[0] / count[0]);
   EXPECT_TRUE(r.warnings.empty());
 }
 
 TEST(ExampleScenes, StrongWallKeepsItsLowerRows) {
   // Thesis fig. 3.7: a weaker bomb and high friction; bricks high on the wall carry less weight,
-  // have less resistance and are blown off; the lower rows withstand the blast.
+  // have less resistance and are pushed off; the lower rows withstand the blast. Face by face,
+  // the front is loaded before the wave wraps around to the rear, so for an instant every brick
+  // feels the whole reflected pressure and slips: the lower three rows by less than a
+  // centimetre (measured 2-9 mm), the top two by several times as much (38-69 mm).
   const Result r = simulate(load("brick_wall_strong.json")).result;
-  const std::set<std::string> names = moved(r);
-  for (const BodyInfo& body : r.bodies) {
-    const bool lower = body.name.rfind("wall/r0/", 0) == 0 || body.name.rfind("wall/r1/", 0) == 0 ||
-                       body.name.rfind("wall/r2/", 0) == 0;
-    EXPECT_EQ(names.count(body.name), lower ? 0u : 1u) << body.name;
+  double lower_most = 0.0, upper_least = INFINITY;
+  for (std::size_t b = 0; b < r.bodies.size(); ++b) {
+    const std::string& name = r.bodies[b].name;
+    const double moved_m =
+        std::abs(r.final_state[b].pose.position[2] - r.bodies[b].initial_pose.position[2]);
+    const int row = name[6] - '0';
+    if (row <= 2) lower_most = std::max(lower_most, moved_m);
+    if (row >= 4) upper_least = std::min(upper_least, moved_m);
   }
-  EXPECT_EQ(r.stats.bodies_never_released, 16u);
+  EXPECT_LT(lower_most, 0.01);
+  EXPECT_GT(upper_least, 3.0 * lower_most);
 }
 
 TEST(ExampleScenes, ThreeBlocksAllMoveTheNearestFarthest) {
@@ -72,6 +78,71 @@ TEST(ExampleScenes, ThreeBlocksAllMoveTheNearestFarthest) {
   EXPECT_GT(moved[0], moved[1]);
   EXPECT_GT(moved[1], moved[2]);
   EXPECT_GT(moved[2], 0.005);
+}
+
+// How far each body moved by the end, m.
+std::vector<double> displacements(const Result& r) {
+  std::vector<double> moved;
+  for (std::size_t b = 0; b < r.bodies.size(); ++b) {
+    double d2 = 0.0;
+    for (int k = 0; k < 3; ++k)
+      d2 += std::pow(r.final_state[b].pose.position[k] - r.bodies[b].initial_pose.position[k], 2);
+    moved.push_back(std::sqrt(d2));
+  }
+  return moved;
+}
+
+TEST(ExampleScenes, ShieldedBlocksTheMostExposedMovesMost) {
+  // Thesis fig. 4.6, bottom row: the three blocks of three_blocks.json behind a concrete wall
+  // whose edge lies between the middle and the far block (as seen from the charge). The block
+  // closest to being exposed moves most and the nearest, deepest in the shadow, least
+  // (measured: 3, 21 and 40 mm); without shielding the nearest moves most (57, 52, 40 mm).
+  scene::Scene s = load("shielded_blocks.json");
+  const Result shielded = simulate(s).result;
+  EXPECT_FALSE(shielded.stats.occlusion_skipped);
+  const std::vector<double> with_wall = displacements(shielded);
+  EXPECT_LT(with_wall[0], with_wall[1]);
+  EXPECT_LT(with_wall[1], with_wall[2]);
+  EXPECT_GT(with_wall[0], 0.0);  // partly exposed: its lower panels see past the wall's foot
+  s.simulation.occlusion = scene::OcclusionMode::off;
+  const Result open = simulate(s).result;
+  EXPECT_TRUE(open.stats.occlusion_skipped);
+  const std::vector<double> without = displacements(open);
+  EXPECT_GT(without[0], without[1]);
+  EXPECT_GT(without[1], without[2]);
+  // The far block stands clear of the wall's shadow: shielding leaves it as it was (to the
+  // steps, which follow the other blocks' loads).
+  EXPECT_NEAR(with_wall[2], without[2], 1e-3 * without[2]);
+}
+
+TEST(ExampleScenes, ShieldedDistanceCloseBehindTheWallIsSafest) {
+  // Thesis fig. 4.7: two small blocks straight behind a wall, one close behind it, one far.
+  // In the open the near one, nearer the charge, flies faster; behind the wall the near one is
+  // shielded more (small radial separation k in eq. 4.1) and the far one moves more.
+  scene::Scene s = load("shielded_distance.json");
+  const Result shielded = simulate(s).result;
+  const double near_v = shielded.final_state[1].linear_velocity_m_s[2];
+  const double far_v = shielded.final_state[2].linear_velocity_m_s[2];
+  EXPECT_GT(far_v, near_v);
+  EXPECT_GT(far_v, 0.0);
+  s.simulation.occlusion = scene::OcclusionMode::off;
+  const Result open = simulate(s).result;
+  EXPECT_GT(open.final_state[1].linear_velocity_m_s[2],
+            2.0 * open.final_state[2].linear_velocity_m_s[2]);
+}
+
+TEST(ExampleScenes, ShieldingOffIsTheSceneWithoutTheOccluder) {
+  scene::Scene s = load("shielded_blocks.json");
+  s.simulation.occlusion = scene::OcclusionMode::off;
+  const Result off = simulate(s).result;
+  s.objects.pop_back();  // the wall
+  s.simulation.occlusion = scene::OcclusionMode::on;
+  const Result no_wall = simulate(s).result;
+  ASSERT_EQ(no_wall.final_state.size(), 3u);
+  for (std::size_t b = 0; b < 3; ++b) {
+    EXPECT_EQ(off.final_state[b].pose.position, no_wall.final_state[b].pose.position) << b;
+    EXPECT_EQ(off.final_state[b].linear_velocity_m_s, no_wall.final_state[b].linear_velocity_m_s);
+  }
 }
 
 TEST(ExampleScenes, BrickWallIsBitForBitRepeatable) {

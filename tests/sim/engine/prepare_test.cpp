@@ -179,7 +179,36 @@ TEST(Prepare, ModelOwnsItsValuesAndStartsBodiesAsTheSceneSays) {
     EXPECT_NE(panel.body, 0u);
   for (std::size_t e = 1; e < model.events.size(); ++e)
     EXPECT_LE(model.events[e - 1].arrival_time_s, model.events[e].arrival_time_s);
-  EXPECT_GT(stats.panels_back_facing, 0u);
+  EXPECT_EQ(stats.panels_back_facing, 0u);  // nothing sheltered: every face has events
+}
+
+TEST(Prepare, ShelteredFacesTurnedAwayFromTheChargeHaveNoEvents) {
+  scene::Scene s;
+  s.charges.push_back(testing::tnt(1.0, Vec3(0.0, 1.0, 10.0)));
+  scene::ObjectSpec pane =
+      testing::box_object("pane", Vec3(1.0, 1.0, 0.01), Vec3(0.0, 1.0, 0.0), 25.0);
+  pane.sheltered = scene::kShelteredBack;  // -z: the charge is on +z
+  s.objects.push_back(pane);
+  s.simulation.max_panel_area_m2 = 10.0;
+  Stats stats;
+  std::vector<BodyInfo> bodies;
+  BodySources sources = body_sources(s);
+  const Model model = prepare(s, sources.bodies, bodies, stats);
+  ASSERT_EQ(model.panels.size(), 6u);
+  EXPECT_EQ(stats.panels_back_facing, 1u);
+  EXPECT_EQ(model.events.size(), 5u);
+  for (const PanelEvent& event : model.events) {
+    const PanelModel& panel = model.panels[event.panel];
+    EXPECT_FALSE(panel.sheltered && panel.normal.z() < 0.0);
+  }
+  // Turned around, the same face is struck head-on and loaded; the +z face now wraps.
+  s.charges[0].position.z() = -10.0;
+  sources = body_sources(s);
+  bodies.clear();
+  stats = Stats{};
+  const Model turned = prepare(s, sources.bodies, bodies, stats);
+  EXPECT_EQ(stats.panels_back_facing, 0u);
+  EXPECT_EQ(turned.events.size(), 6u);
 }
 
 TEST(Sleeping, RestsLongEnoughThenSleepsAndMovingResetsTheClock) {

@@ -270,6 +270,31 @@ TEST(WindowScenes, WindowIsBlownOut) {
   EXPECT_EQ(r.stats.bodies_anchored, 4u);  // the frame
 }
 
+TEST(WindowScenes, ShelteredPaneFliesWithTheMomentumTheWaveGives) {
+  // A pane with a room behind it takes at most about i_r per area from the pressure: its
+  // fragments' mean launch speed lies between 0.6 and 1.3 times i_r / (rho h) (issue 11's
+  // bound; bench/results/window_fragments.txt has the table over charges and thicknesses).
+  scene::Scene s = load("window.json");
+  const scene::ObjectSpec& pane = s.objects[0];
+  ASSERT_EQ(pane.sheltered, scene::kShelteredBack);
+  const double mass_per_area = pane.mass_kg / (pane.box_size_m.x() * pane.box_size_m.y());
+  const blast::BlastPoint point = blast::blast_point(
+      blast::Charge{s.charges[0].mass_kg}, (s.charges[0].position - pane.position).norm());
+  const double bound = point.reflected_impulse_pa_s / mass_per_area;
+  const Result sheltered = simulate(s).result;
+  const double speed = sheltered.fracture[0].launch_speed_m_s.mean;
+  EXPECT_GT(speed, 0.6 * bound);
+  EXPECT_LT(speed, 1.3 * bound);
+  // Held fragments keep the load they took before breaking free: nearly all leave the frame.
+  EXPECT_GT(static_cast<double>(sheltered.fracture[0].released),
+            0.9 * static_cast<double>(sheltered.fracture[0].fragment_count));
+  // In the open, the wave wraps around onto the pane's back and takes part of the push away.
+  s.objects[0].sheltered = 0;
+  const double open = simulate(s).result.fracture[0].launch_speed_m_s.mean;
+  EXPECT_LT(open, 0.9 * speed);
+  EXPECT_GT(open, 0.3 * speed);
+}
+
 TEST(WindowScenes, OverdampedWindowBarelyMoves) {
   // Thesis §6.5, fig. 6.6: damping 1000 times normal (air 1000 times as dense) compresses the
   // flight into a short distance.
@@ -284,7 +309,6 @@ TEST(WindowScenes, OverdampedWindowBarelyMoves) {
   const Result overdamped = simulate(load("window_overdamped.json")).result;
   ASSERT_EQ(normal.fracture[0].fragment_count, overdamped.fracture[0].fragment_count);
   EXPECT_LT(mean_travel(overdamped), 0.05 * mean_travel(normal));
-  EXPECT_LT(mean_travel(overdamped), 0.05);
 }
 
 }  // namespace

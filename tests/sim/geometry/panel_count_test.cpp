@@ -63,17 +63,18 @@ TEST(CountPanels, EqualsMakePanelsOverMeshesAndLimits) {
   }
 }
 
-TEST(CountPanels, FollowsTheSubdivisionCap) {
-  // A 1e-30 m^2 limit stops at 4^8 = 65536 pieces per face: 4 faces of one triangle each.
+TEST(CountPanels, FollowsTheCellCap) {
+  // A 1e-30 m^2 limit stops at 65536 cells per face.
   TriangleMesh tetrahedron;
   tetrahedron.vertices = {Vec3::Zero(), Vec3::UnitX(), Vec3::UnitY(), Vec3::UnitZ()};
   tetrahedron.triangles = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}};
-  EXPECT_EQ(count_panels(tetrahedron, 1e-30), 4u * 65536u);
+  EXPECT_LE(count_panels(tetrahedron, 1e-30), 4u * 65536u);
   EXPECT_EQ(count_panels(tetrahedron, 1e-30), make_panels(tetrahedron, 1e-30).size());
-  // A box's faces have two triangles each, so they stop one level earlier: 2 × 4^7 per face.
+  // A box's rectangular faces fill their grids: 256 × 256 cells each.
   const TriangleMesh box = make_box(Vec3(1, 2, 3));
-  EXPECT_EQ(count_panels(box, 1e-30), 6u * 2u * 16384u);
+  EXPECT_EQ(count_panels(box, 1e-30), 6u * 65536u);
   EXPECT_EQ(count_panels(box, 1e-30), make_panels(box, 1e-30).size());
+  EXPECT_EQ(count_panels(box, 1e-300), 6u * 65536u);
 }
 
 TEST(CountPanels, EmptyMeshHasNoPanels) {

@@ -74,10 +74,12 @@ TEST(ResultCodec, SummaryIsPinned) {
             "\":[0.5,0.5,0.5,0.5],\"position\":[0.0,1.5,2.0]},{\"angular_velocity\":[0.0,0.0,0.0]"
             ",\"linear_velocity\":[0.0,0.0,0.0],\"name\":\"marker\",\"orientation\":[0.0,0.0,1.0,"
             "0.0],\"position\":[-1.0,0.0,0.25]}],\"fracture\":[],\"frame_count\":2,\"frame_times\""
-            ":[0.0,0.5],\"stats\":{\"bodies\":2,\"bodies_anchored\":0,\"bodies_never_released\":0"
+            ":[0.0,0.5],\"shielding\":[],\"stats\":{\"bodies\":2,\"bodies_anchored\":0,\"bodies_"
+            "never_released\":0"
             ",\"bodies_slept\":0,\"bodies_static_in_frames\":1,\"body_steps\":40,\"ended_early\":"
             "false,\"fragments\":0,\"occlusion_skipped\":true,\"panels\":7,\"panels_back_facing\""
-            ":0,\"panels_loaded\":1,\"panels_not_reached\":0,\"panes_broken\":0,\"panes_not_broke"
+            ":0,\"panels_loaded\":1,\"panels_not_reached\":0,\"panels_shielded\":0,\"panes_broken"
+            "\":0,\"panes_not_broke"
             "n\":0,\"simulated_time_s\":0.5,\"steps\":40,\"wall_time_s\":0.125},\"warnings\":[{\""
             "code\":\"blast_out_of_range\",\"count\":3,\"message\":\"far away\"}]}");
 }

@@ -72,6 +72,7 @@ engine::Result synthetic_result() {
                   .panels_not_reached = 6,
                   .body_steps = 2400,
                   .occlusion_skipped = false,
+                  .panels_shielded = 9,
                   .panes_broken = 1,
                   .panes_not_broken = 7,
                   .fragments = 2};
@@ -134,8 +135,24 @@ TEST(ResultJson, HasExactlyTheDocumentedTopLevelMembers) {
   std::set<std::string> keys;
   for (const auto& [key, value] : j.items())
     keys.insert(key);
-  EXPECT_EQ(keys, (std::set<std::string>{"bodies", "frames", "final_state", "fracture", "stats",
-                                         "warnings"}));
+  EXPECT_EQ(keys, (std::set<std::string>{"bodies", "frames", "final_state", "fracture", "shielding",
+                                         "stats", "warnings"}));
+}
+
+TEST(ResultJson, ShieldingNamesEachShieldedBodyPerCharge) {
+  engine::Result result = synthetic_result();
+  EXPECT_EQ(round_trip(result)["shielding"], json::array());
+  result.shielding.push_back({0, {{1, 0.0}, {2, 0.25}}});
+  result.shielding.push_back({1, {}});
+  const json j = round_trip(result)["shielding"];
+  ASSERT_EQ(j.size(), 2u);
+  EXPECT_EQ(j[0]["charge"], 0);
+  EXPECT_EQ(j[0]["bodies"][0],
+            (json{{"body", 1}, {"name", result.bodies[1].name}, {"attenuation", 0.0}}));
+  EXPECT_EQ(j[0]["bodies"][1]["attenuation"], 0.25);
+  EXPECT_EQ(j[1], (json{{"charge", 1}, {"bodies", json::array()}}));
+  EXPECT_EQ(j, round_trip(result)["shielding"]);
+  EXPECT_EQ(result_to_json(result)["shielding"], j);  // the DOM and the streamed text agree
 }
 
 TEST(ResultJson, BodiesCarryNameMassMeshPoseAndAnimatedFlag) {
@@ -225,6 +242,7 @@ TEST(ResultJson, StatsHoldEveryFieldUnderItsMemberName) {
                          {"panels_not_reached", 6},
                          {"body_steps", 2400},
                          {"occlusion_skipped", false},
+                         {"panels_shielded", 9},
                          {"panes_broken", 1},
                          {"panes_not_broken", 7},
                          {"fragments", 2}};

@@ -221,6 +221,25 @@ TEST(SceneObjects, FrictionDragAndFlags) {
   single_error(doc, "/objects/0/drag_coefficient");
 }
 
+TEST(SceneObjects, ShelteredDirectionsAreBitsOfTheObjectsOwnAxes) {
+  json doc = minimal_scene();
+  EXPECT_EQ(parse_ok(doc).objects[0].sheltered, 0u);
+  doc["objects"][0]["sheltered"] = {"-z", "+x"};
+  const std::uint8_t mask = parse_ok(doc).objects[0].sheltered;
+  EXPECT_EQ(mask, kShelteredBack | 1u);
+  EXPECT_TRUE(is_sheltered(mask, Eigen::Vector3d(0, 0, -1)));
+  EXPECT_TRUE(is_sheltered(mask, Eigen::Vector3d(0.8, 0, 0.6)));   // 37° from +x
+  EXPECT_FALSE(is_sheltered(mask, Eigen::Vector3d(0.6, 0, 0.8)));  // 53° from +x
+  EXPECT_FALSE(is_sheltered(mask, Eigen::Vector3d(0, 0, 1)));
+  EXPECT_FALSE(is_sheltered(mask, Eigen::Vector3d(0, -1, 0)));
+  doc["objects"][0]["sheltered"] = {"back"};
+  EXPECT_TRUE(contains(single_error(doc, "/objects/0/sheltered/0"), "\"-z\""));
+  doc["objects"][0]["sheltered"] = "-z";
+  EXPECT_TRUE(contains(single_error(doc, "/objects/0/sheltered"), "array"));
+  doc["objects"][0]["sheltered"] = {"-z", "-z"};
+  EXPECT_TRUE(contains(single_error(doc, "/objects/0/sheltered/1"), "twice"));
+}
+
 // A breakable pane: a glass box, thickness along z.
 json pane_scene() {
   json doc = minimal_scene();
@@ -339,6 +358,8 @@ TEST(SceneWindow, GeneratesAPaneAndAnAnchoredFrame) {
     EXPECT_TRUE(scene.objects[i].anchored) << scene.objects[i].name;
     EXPECT_FALSE(scene.objects[i].fracture.has_value());
   }
+  EXPECT_EQ(pane.sheltered, kShelteredBack);  // a room behind the window, by default
+  EXPECT_EQ(pane.fracture->clearing, FractureSpec::Clearing::pane);
   EXPECT_EQ(scene.objects[1].name, "w/frame/bottom");
   // The frame's inner edges meet the pane's edges.
   EXPECT_NEAR(scene.objects[1].position.y() + 0.5 * scene.objects[1].box_size_m.y(), 1.5 - 0.45,
@@ -347,8 +368,10 @@ TEST(SceneWindow, GeneratesAPaneAndAnAnchoredFrame) {
   doc["generators"][0]["frame"] = false;
   doc["generators"][0]["material"] = "tempered_glass";
   doc["generators"][0]["fracture"] = {{"growth_length", 0.02}};
+  doc["generators"][0]["sheltered_back"] = false;
   const Scene unframed = parse_ok(doc);
   ASSERT_EQ(unframed.objects.size(), 1u);
+  EXPECT_EQ(unframed.objects[0].sheltered, 0u);
   EXPECT_FALSE(unframed.objects[0].fracture->framed);
   EXPECT_EQ(unframed.objects[0].fracture->strength_pa, 120e6);
   EXPECT_EQ(unframed.objects[0].fracture->growth_length_m, 0.02);

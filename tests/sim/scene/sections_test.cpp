@@ -246,6 +246,30 @@ TEST(SceneSimulation, RangesAndLimits) {
   EXPECT_TRUE(contains(single_error(doc, "/simulation/frame_rate"), "max_frame_rate_hz"));
 }
 
+TEST(SceneSimulation, ShieldingParametersAreReadAndChecked) {
+  json doc = minimal_scene();
+  EXPECT_EQ(parse_ok(doc).simulation.shielding.resolution, 32);
+  doc["simulation"]["shielding"] = {
+      {"resolution", 64}, {"blocking_offset", 2}, {"separation_slope", 0}, {"per_panel", false}};
+  const ShieldingSpec spec = parse_ok(doc).simulation.shielding;
+  EXPECT_EQ(spec.resolution, 64);
+  EXPECT_EQ(spec.blocking_offset, 2.0);
+  EXPECT_EQ(spec.separation_slope, 0.0);
+  EXPECT_FALSE(spec.per_panel);
+  const std::pair<const char*, json> cases[] = {
+      {"resolution", 3},        {"resolution", 129},  {"resolution", 32.5}, {"blocking_offset", 0},
+      {"separation_slope", -1}, {"per_panel", "yes"}, {"pixels", 32},
+  };
+  for (const auto& [field, value] : cases) {
+    doc = minimal_scene();
+    doc["simulation"]["shielding"] = {{field, value}};
+    single_error(doc, std::string("/simulation/shielding/") + field);
+  }
+  doc = minimal_scene();
+  doc["simulation"]["shielding"] = 32;
+  single_error(doc, "/simulation/shielding");
+}
+
 TEST(SceneSimulation, TimeStepOrToleranceNotBoth) {
   json doc = minimal_scene();
   doc["simulation"]["time_step"] = 0.01;

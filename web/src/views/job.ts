@@ -12,8 +12,9 @@ const STAT_LABELS: Record<string, string> = {
   ended_early: "Ended early (all at rest)", bodies: "Bodies", bodies_anchored: "Anchored",
   bodies_never_released: "Never released (held by friction)", bodies_slept: "Slept",
   bodies_static_in_frames: "Stored once (static)", panels: "Load panels", panels_loaded: "Panels loaded",
-  panels_back_facing: "Panels back-facing", panels_not_reached: "Panels not reached",
+  panels_back_facing: "Panels sheltered from every charge", panels_not_reached: "Panels not reached",
   body_steps: "Body steps", occlusion_skipped: "Occlusion skipped",
+  panels_shielded: "Panels wholly shielded",
 };
 
 function statsTable(stats: RunStats): HTMLElement {
@@ -22,6 +23,21 @@ function statsTable(stats: RunStats): HTMLElement {
   return h("table", { class: "kv", id: "job-stats" }, h("tbody", null, entries.map(([key, value]) =>
     h("tr", null, h("th", null, STAT_LABELS[key] ?? key.replaceAll("_", " ")),
       h("td", { class: "num" }, typeof value === "number" ? num(value, 4) : value ? "yes" : "no")))));
+}
+
+// Which bodies each charge's shielding pass scaled down, and by how much (docs/occlusion.md).
+function shieldingSection(result: ResultSummary): HTMLElement | null {
+  const charges = result.shielding ?? [];
+  if (charges.length === 0) return null;
+  return h("section", { id: "job-shielding" },
+    h("h2", null, "Shielding"),
+    charges.map((charge) => charge.bodies.length === 0
+      ? h("p", { class: "muted" }, `Charge ${charge.charge}: nothing shielded.`)
+      : h("table", { class: "kv" },
+          h("caption", null, `Charge ${charge.charge}: load scaled by`),
+          h("tbody", null, charge.bodies.map((body) =>
+            h("tr", null, h("th", null, body.name),
+              h("td", { class: "num" }, body.attenuation === 0 ? "0 (wholly shielded)" : num(body.attenuation, 3))))))));
 }
 
 function infoTable(job: Job): HTMLElement {
@@ -105,7 +121,8 @@ export const jobView: View = (root, route, signal) => {
             h("li", null, h("code", null, w.code), ` ×${w.count}: ${w.message}`))),
         h("h2", null, "Result"),
         h("p", null, `${result.bodies.length} bodies, ${result.animated.length} moving; ` +
-                     `${result.frame_count} frames over ${num(result.duration, 4)} s.`));
+                     `${result.frame_count} frames over ${num(result.duration, 4)} s.`),
+        shieldingSection(result));
     } catch (error) {
       if (!isAbort(error)) mount(warnings, errorBox(error));
     }

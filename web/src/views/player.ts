@@ -1,14 +1,17 @@
 // #/jobs/ID/player: the finished job's animated glTF (result.glb, fetched with the key header)
-// in three.js: play / pause / scrub, an orbit camera, a ground grid and the charges of the job's
-// scene as small red spheres. This module and three.js form their own chunk.
+// in three.js: play / pause / scrub, an orbit camera that frames the bodies and charges at the
+// start and follows the debris, a ground grid and the charges of the job's scene as small red
+// spheres. Thin fragments are drawn from both sides; broken panes' fragments can be coloured by
+// their release time or their speed at the end, with a legend. This module and three.js form
+// their own chunk.
 import {
-  AnimationMixer, Box3, LoopOnce, Color, DirectionalLight, GridHelper, HemisphereLight, type Material, Mesh,
-  MeshStandardMaterial, type Object3D, PerspectiveCamera, PlaneGeometry, Scene as ThreeScene, SphereGeometry, Vector3,
-  WebGLRenderer,
+  AnimationMixer, Box3, LoopOnce, Color, DirectionalLight, DoubleSide, GridHelper, HemisphereLight, type Material,
+  Mesh, MeshStandardMaterial, type Object3D, PerspectiveCamera, PlaneGeometry, PropertyBinding, Scene as ThreeScene,
+  SphereGeometry, Vector3, WebGLRenderer,
 } from "three";
 import { OrbitControls } from "three/addons/controls/OrbitControls.js";
 import { type GLTF, GLTFLoader } from "three/addons/loaders/GLTFLoader.js";
-import { client, describe, type Scene } from "../api";
+import { client, describe, type ResultSummary, type Scene } from "../api";
 import { h, mount } from "../dom";
 import type { View } from "../view";
 
@@ -22,6 +25,25 @@ function tint(name: string): Color {
   return new Color().setHSL((hash % 360) / 360, 0.35, 0.6);
 }
 
+/** Blue (low) through green to red (high), for t in [0, 1]. */
+function ramp(t: number): Color {
+  return new Color().setHSL((1 - Math.min(1, Math.max(0, t))) * 0.66, 0.75, 0.55);
+}
+
+type ColourMode = "body" | "release" | "speed";
+
+/** Per body index, the value a colour mode shows (null: not shown, tinted by name). */
+function valuesFor(mode: ColourMode, result: ResultSummary): (number | null)[] {
+  const values: (number | null)[] = result.bodies.map(() => null);
+  if (mode === "release") {
+    for (const pane of result.fracture ?? [])
+      pane.release_times_s.forEach((t, k) => { values[pane.first_body + k] = t ?? null; });
+  } else if (mode === "speed") {
+    result.final_state.forEach((state, b) => { values[b] = Math.hypot(...state.linear_velocity); });
+  }
+  return values;
+}
+
 export const playerView: View = async (root, route, signal) => {
   const id = route.id;
   const status = h("p", { class: "muted", id: "player-status" }, "Loading result.glb…");
@@ -29,11 +51,13 @@ export const playerView: View = async (root, route, signal) => {
   mount(root, h("p", null, h("a", { href: `#/jobs/${id}` }, "← Job ", h("code", null, id))),
         h("h1", null, "3D player"), status, stage);
 
-  let gltf: GLTF, scene: Scene;
+  let gltf: GLTF, scene: Scene, result: ResultSummary;
   try {
-    const [glb, sceneJson] = await Promise.all([client.getGlb(id, { signal }), client.getScene(id, { signal })]);
+    const [glb, sceneJson, summary] = await Promise.all([
+      client.getGlb(id, { signal }), client.getScene(id, { signal }), client.getResult(id, { signal })]);
     gltf = await parseGlb(glb);
     scene = sceneJson;
+    result = summary;
   } catch (error) {
     if (signal.aborted) return;
     status.className = "error";
@@ -51,14 +75,48 @@ export const playerView: View = async (root, route, signal) => {
   world.add(sun);
 
   world.add(gltf.scene);
+  // Each body's meshes, by the body's index in the result (glTF nodes carry the body names, as
+  // the loader sanitises them: "window/pane/f3" becomes "window_pane_f3").
+  const bodyIndex = new Map(result.bodies.map((body) => [PropertyBinding.sanitizeNodeName(body.name), body.index]));
+  const meshesOf: Mesh[][] = result.bodies.map(() => []);
   gltf.scene.traverse((node: Object3D) => {
     if (node instanceof Mesh) {
       const material = (node.material as Material).clone() as MeshStandardMaterial;
-      if (material.color) material.color = tint(node.name || node.parent?.name || "");
+      material.side = DoubleSide;  // a 6 mm fragment seen edge-on or from behind is still drawn
       node.material = material;
+      const index = bodyIndex.get(node.name) ?? bodyIndex.get(node.parent?.name ?? "");
+      if (index !== undefined) meshesOf[index]?.push(node);
     }
   });
+  const legend = h("div", { class: "legend", id: "player-legend", hidden: true });
+  const colour = (mode: ColourMode) => {
+    const values = valuesFor(mode, result);
+    const shown = values.filter((v): v is number => v !== null);
+    const low = Math.min(...shown), high = Math.max(...shown);
+    meshesOf.forEach((meshes, b) => {
+      const value = values[b] ?? null;
+      const c = value === null ? tint(result.bodies[b]?.name ?? "")
+        : ramp(high > low ? (value - low) / (high - low) : 0.5);
+      for (const mesh of meshes) (mesh.material as MeshStandardMaterial).color = c;
+    });
+    if (mode === "body" || shown.length === 0) {
+      legend.hidden = true;
+      return;
+    }
+    const label = mode === "release" ? "Release time" : "Speed at the end";
+    const fmt = (v: number) => mode === "release" ? `${(v * 1e3).toFixed(2)} ms` : `${v.toFixed(2)} m/s`;
+    mount(legend, h("span", null, label), h("span", { class: "legend-low" }, fmt(low)),
+          h("span", { class: "legend-bar" }), h("span", { class: "legend-high" }, fmt(high)));
+    legend.hidden = false;
+  };
+  const broken = (result.fracture ?? []).some((pane) => pane.broken);
+  const colourBy = h("select", { id: "colour-by", "aria-label": "Colour by", onchange: () => colour(colourBy.value as ColourMode) },
+    h("option", { value: "body", selected: !broken }, "Colour: by body"),
+    h("option", { value: "release", selected: broken, disabled: !broken }, "Colour: fragment release time"),
+    h("option", { value: "speed" }, "Colour: speed at the end"));
+  colour(broken ? "release" : "body");
 
+  // The bodies and the charges as they stand at the start frame the view.
   const bounds = new Box3().setFromObject(gltf.scene);
   const chargeMaterial = new MeshStandardMaterial({ color: 0xff2a1a, emissive: 0xa00000, roughness: 0.4 });
   for (const charge of scene.charges) {
@@ -126,9 +184,12 @@ export const playerView: View = async (root, route, signal) => {
   const timeLabel = h("span", { class: "time", id: "time-label" });
   const speed = h("select", { id: "speed", "aria-label": "Speed" },
     [0.1, 0.25, 0.5, 1].map((v) => h("option", { value: v, selected: v === 0.25 }, `${v}×`)));
+  const follow = h("input", { type: "checkbox", id: "follow-debris", checked: duration > 0 });
   syncButton();
   mount(stage, renderer.domElement,
-    h("div", { class: "player-controls" }, play, scrub, timeLabel, speed));
+    h("div", { class: "player-controls" }, play, scrub, timeLabel, speed, colourBy,
+      h("label", null, follow, " Follow the debris")),
+    legend);
   renderer.domElement.id = "player-canvas";
   const bodies = gltf.scene.children.length;
   status.textContent = `${bodies} bodies, ${scene.charges.length} charge(s) (red); ` +
@@ -146,6 +207,22 @@ export const playerView: View = async (root, route, signal) => {
   observer.observe(stage);
   resize();
 
+  // Following the debris: the view's target eases towards the centre of the bodies that move,
+  // and the camera keeps its offset from the target (the user still orbits and zooms).
+  const moving = result.animated.flatMap((b) => meshesOf[b] ?? []);
+  const movingBounds = new Box3();
+  const movingCentre = new Vector3();
+  const followDebris = () => {
+    if (!follow.checked || moving.length === 0) return;
+    movingBounds.makeEmpty();
+    for (const mesh of moving) movingBounds.expandByObject(mesh);
+    if (movingBounds.isEmpty()) return;
+    movingBounds.getCenter(movingCentre);
+    const shift = movingCentre.sub(controls.target).multiplyScalar(0.1);
+    controls.target.add(shift);
+    camera.position.add(shift);
+  };
+
   let last = performance.now();
   let frames = 0;
   const loop = (now: number) => {
@@ -155,6 +232,7 @@ export const playerView: View = async (root, route, signal) => {
       const next = time + dt * Number(speed.value);
       showTime(next >= duration ? 0 : next);  // loops
     }
+    followDebris();
     controls.update();
     renderer.render(world, camera);
     if (++frames === 2) stage.dataset.state = "ready";  // drawn: the browser test waits on this

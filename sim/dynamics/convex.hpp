@@ -1,8 +1,9 @@
 // sim/dynamics/convex: the collision shapes of bodies and the narrowphase between two of them
 // (issue 13). A body collides as a few convex pieces in its own frame:
 //   - a convex mesh (a box) is one piece, its faces merged by plane;
-//   - a prism that is not convex (a fragment of a pane, extruded from a concave outline) is one
-//     triangular prism per triangle of its cap, which is the triangulation it was built from;
+//   - a prism that is not convex (a fragment of a pane, extruded from a concave outline) is the
+//     prism of its outline's convex hull (see prism_piece in convex.cpp for the rejected
+//     decomposition into one triangular prism per triangle of its cap);
 //   - any other closed mesh is its convex hull (up to kMaxHullVertices vertices; beyond, its
 //     bounding box). A convex decomposition (V-HACD and kin) is a project of its own and a
 //     user's concave mesh is rare in a blast scene; the hull keeps debris out of it, at the
@@ -23,13 +24,13 @@
 namespace brisance::dynamics {
 
 struct ConvexPiece {
-  std::vector<Vec3> vertices;                        // body frame, from the centre of mass, m
-  std::vector<Vec3> normals;                         // outward unit face normals, body frame
-  std::vector<double> offsets;                       // face planes: normal . x <= offset, m
-  std::vector<Vec3> edge_directions;                 // unit, one per parallel class
-  std::vector<std::array<std::uint8_t, 2>> edges;    // vertex index pairs of the hull's edges
-  Vec3 centre = Vec3::Zero();                        // of the vertices' bounding sphere
-  double radius_m = 0.0;                             // of that sphere
+  std::vector<Vec3> vertices;                      // body frame, from the centre of mass, m
+  std::vector<Vec3> normals;                       // outward unit face normals, body frame
+  std::vector<double> offsets;                     // face planes: normal . x <= offset, m
+  std::vector<Vec3> edge_directions;               // unit, one per parallel class
+  std::vector<std::array<std::uint8_t, 2>> edges;  // vertex index pairs of the hull's edges
+  Vec3 centre = Vec3::Zero();                      // of the vertices' bounding sphere
+  double radius_m = 0.0;                           // of that sphere
 };
 
 struct CollisionShape {
@@ -49,15 +50,15 @@ struct PlacedPiece {
   std::vector<double> offsets;
   std::vector<Vec3> edge_directions;
   const ConvexPiece* piece = nullptr;  // for the edge list
-  Vec3 min, max;  // world box, m
+  Vec3 min, max;                       // world box, m
 };
 void place(const ConvexPiece& piece, const Vec3& position, const Mat3& rotation, PlacedPiece& out);
 
 // One contact point between piece a and piece b: the normal points from a to b.
 struct ContactPoint {
-  Vec3 point;            // world, m, midway between the surfaces
-  double depth_m;        // penetration along the normal; negative: a gap within the margin
-  std::uint32_t feature; // which vertex of which piece: stable while the pieces stay in touch
+  Vec3 point;             // world, m, midway between the surfaces
+  double depth_m;         // penetration along the normal; negative: a gap within the margin
+  std::uint32_t feature;  // which vertex of which piece: stable while the pieces stay in touch
 };
 
 struct Manifold {
@@ -68,7 +69,7 @@ struct Manifold {
 // The contact points of pieces a and b if they are within `margin_m` of each other (written to
 // `out`, replacing what it held); returns whether they touch. `feature_base` tags the points
 // of this pair of pieces (a multiple of 256).
-bool collide(const PlacedPiece& a, const PlacedPiece& b, double margin_m, std::uint32_t feature_base,
-             Manifold& out);
+bool collide(const PlacedPiece& a, const PlacedPiece& b, double margin_m,
+             std::uint32_t feature_base, Manifold& out);
 
 }  // namespace brisance::dynamics

@@ -109,6 +109,9 @@ struct Timing {
   bool sleep = true;  // bodies at rest on the ground stop being integrated
 };
 
+// Contacts between bodies (`simulation.collisions`).
+enum class Collisions : std::uint8_t { automatic, on, off };
+
 // Everything that does not change while stepping (STYLE.md §1), per body in body order.
 struct Model {
   std::vector<dynamics::BodyModel> bodies;
@@ -118,6 +121,7 @@ struct Model {
   std::vector<std::uint8_t>
       supported;  // held on other bodies: friction resists its loads (eq. 2.40)
   std::vector<Motion> initial_motion;
+  std::vector<double> friction;  // each body's coefficient, for contacts between bodies
   // The standing bodies each body rests on at the start (Footing::supports): with collisions on,
   // a held body whose supports have all been released is released too.
   std::vector<std::vector<std::uint32_t>> supports;
@@ -132,6 +136,7 @@ struct Model {
   std::optional<dynamics::Ground> ground;
   blast::PanelLoadOptions load_options;
   double rotation_factor = 1.0;
+  Collisions collisions = Collisions::off;
   Timing timing;
 };
 

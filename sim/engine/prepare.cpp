@@ -71,6 +71,9 @@ void prepare_world(const scene::Scene& scene, Model& model) {
   model.timing.time_step_s = sim.time_step_s;
   model.timing.tolerance = sim.tolerance;
   model.timing.sleep = sim.sleep;
+  model.collisions = sim.collisions == scene::CollisionMode::on    ? Collisions::on
+                     : sim.collisions == scene::CollisionMode::off ? Collisions::off
+                                                                   : Collisions::automatic;
 }
 
 // One body from its source: mass properties, hull, drag shape and panels; its hold and how it
@@ -123,6 +126,7 @@ void prepare_body(BodySource& source, double normal_force_n, bool standing, doub
     motion = Motion::awake;  // nothing holds it, or it stands on nothing: it falls from the start
   }
   model.initial_motion.push_back(motion);
+  model.friction.push_back(source.friction);
   model.fragment.push_back(source.fragment ? 1 : 0);
   model.release_not_before_s.push_back(source.release_not_before_s);
   // Friction from the ground is the contact's job once the body moves; the hold's eq. 2.40

@@ -14,6 +14,8 @@ const STAT_LABELS: Record<string, string> = {
   bodies_static_in_frames: "Stored once (static)", panels: "Load panels", panels_loaded: "Panels loaded",
   panels_back_facing: "Panels back-facing", panels_not_reached: "Panels not reached",
   body_steps: "Body steps", occlusion_skipped: "Occlusion skipped",
+  collision_pairs: "Collision pairs (broadphase)", collision_pairs_skipped: "Collision pairs skipped",
+  contact_points: "Contact points",
 };
 
 function statsTable(stats: RunStats): HTMLElement {

@@ -46,6 +46,46 @@ Eigen::Vector4d quaternion_rate(const Quat& q, const Vec3& omega) {
   return 0.5 * rate.coeffs();
 }
 
+// The torque-free turn over dt by the implicit midpoint rule on the body-frame angular
+// momentum P (Euler's equation dP/dt = P x I^-1 P): with M = (P0 + P1) / 2 and W = I^-1 M,
+// P1 = P0 + dt M x W. The rule keeps every quadratic invariant, so |P| and the energy
+// P . I^-1 P / 2 are exact to the solve's tolerance, and P1 = C^T P0 with C the Cayley rotation
+// of dt W, so turning the body by C keeps the world angular momentum R P exactly (the
+// midpoint Lie-Poisson integrator; Austin, Krishnaprasad and Wang, J. Comput. Phys. 107, 1993).
+// M is found by Newton's method on F(M) = M - P0 - dt/2 M x W(M). Returns the angular velocity
+// turned with, world frame.
+Vec3 free_rotation(const BodyModel& model, const Mat3& rotation, BodyState& state, double dt) {
+  const Vec3 p0 = rotation.transpose().lazyProduct(state.angular_momentum);
+  auto inverse_inertia = [&](const Vec3& p) {
+    return model.diagonal_inertia ? Vec3(model.inverse_inertia_diagonal.cwiseProduct(p))
+                                  : Vec3(model.inverse_inertia_body.lazyProduct(p));
+  };
+  const double h = 0.5 * dt;
+  Vec3 m = p0;
+  Vec3 w = inverse_inertia(m);
+  const double scale = p0.squaredNorm();
+  for (int iteration = 0; iteration < 12; ++iteration) {
+    const Vec3 residual = m - p0 - h * m.cross(w);
+    if (residual.squaredNorm() <= 1e-30 * scale) break;
+    // dF/dM = Id - h ([M]x I^-1 - [W]x), with [a]x b = a x b.
+    Mat3 cross_m, cross_w;
+    cross_m << 0.0, -m.z(), m.y(), m.z(), 0.0, -m.x(), -m.y(), m.x(), 0.0;
+    cross_w << 0.0, -w.z(), w.y(), w.z(), 0.0, -w.x(), -w.y(), w.x(), 0.0;
+    const Mat3 inverse = model.diagonal_inertia ? Mat3(model.inverse_inertia_diagonal.asDiagonal())
+                                                : model.inverse_inertia_body;
+    const Mat3 jacobian = Mat3::Identity() - h * (cross_m * inverse - cross_w);
+    m -= jacobian.partialPivLu().solve(residual);
+    w = inverse_inertia(m);
+  }
+  // The Cayley rotation of dt W is the unit quaternion along (1, dt W / 2), in the body frame.
+  const Vec3 half_turn = h * w;
+  Quat turn(1.0, half_turn.x(), half_turn.y(), half_turn.z());
+  turn.coeffs() *= 1.0 / turn.norm();
+  state.orientation = state.orientation * turn;
+  state.orientation.coeffs() *= 1.0 / state.orientation.norm();  // one division, not four
+  return rotation.lazyProduct(w);
+}
+
 // Quadratic drag along the velocity, integrated exactly for straight-line motion:
 // dv/dt = -k v^2 gives v(dt) = v / (1 + k v dt), stable for any step (thesis eq. 3.2).
 // `rotation` is the body's orientation as a matrix (shared with the rotation step).
@@ -87,16 +127,13 @@ Vec3 integrate_rotation(const BodyModel& model, const Mat3& start_rotation, Body
       break;
     }
     case Integrator::semi_implicit_euler: {
-      // Momentum first (like the velocity), then the orientation turned by the angular velocity
-      // at the half step: a plain first-order turn drifts 15 % in energy within 10 s near the
-      // intermediate axis at 6 rad/s and 1 ms steps; the midpoint turn costs one more rotation.
+      // Momentum first (like the velocity), then the torque-free turn by the implicit midpoint
+      // rule on the body-frame angular momentum (free_rotation): energy and angular momentum
+      // are kept exactly. Rejected: turning by the angular velocity at the half step (the
+      // scheme before this one) drifted +5 % in energy in 1 s for a 1 mm plate tumbling at
+      // 0.06 rad a step, +65 % in 10 s.
       state.angular_momentum += loads.angular_impulse;
-      const Vec3 start_omega = omega_of(model, start_rotation, state.angular_momentum);
-      const Quat half = rotation_over(start_omega, 0.5 * dt) * state.orientation;
-      const Vec3 omega = omega_of(model, half, state.angular_momentum);
-      state.orientation = rotation_over(omega, dt) * state.orientation;
-      state.orientation.coeffs() *= 1.0 / state.orientation.norm();  // one division, not four
-      turned = omega;
+      turned = free_rotation(model, start_rotation, state, dt);
       break;
     }
     case Integrator::rk4: {

@@ -117,6 +117,9 @@ struct Timing {
   bool sleep = true;  // bodies at rest on the ground stop being integrated
 };
 
+// Contacts between bodies (`simulation.collisions`).
+enum class Collisions : std::uint8_t { automatic, on, off };
+
 // Everything that does not change while stepping (STYLE.md §1), per body in body order.
 struct Model {
   std::vector<dynamics::BodyModel> bodies;
@@ -126,6 +129,10 @@ struct Model {
   std::vector<std::uint8_t>
       supported;  // held on other bodies: friction resists its loads (eq. 2.40)
   std::vector<Motion> initial_motion;
+  std::vector<double> friction;  // each body's coefficient, for contacts between bodies
+  // The standing bodies each body rests on at the start (Footing::supports): with collisions on,
+  // a held body whose supports have all been released is released too.
+  std::vector<std::vector<std::uint32_t>> supports;
   // Fragments of broken panes (thesis §6.7): whether a body is one, and the earliest time it
   // may break free (the wave's arrival at its centroid; 0 for others).
   std::vector<std::uint8_t> fragment;
@@ -144,6 +151,7 @@ struct Model {
   std::optional<dynamics::Ground> ground;
   blast::PanelLoadOptions load_options;
   double rotation_factor = 1.0;
+  Collisions collisions = Collisions::off;
   Timing timing;
 };
 
@@ -179,6 +187,16 @@ BodySources body_sources(const scene::Scene& scene);
 // The normal force each body presses down with at the start: its own weight plus its share of
 // the bodies resting on it, N (prepare_holds.cpp).
 std::vector<double> supported_weights(const std::vector<BodySource>& sources, double gravity);
+
+// What each body stands on at the start (prepare_holds.cpp). A friction hold needs something to
+// hold on to (issue 13): the ground (its bottom within 5 mm), an anchored body, a fragment's
+// frame grip, or a body that itself stands, resting under it by the rule of supported_weights.
+// A body that stands on nothing falls from the start.
+struct Footing {
+  std::vector<std::uint8_t> standing;
+  std::vector<std::vector<std::uint32_t>> supports;  // the standing bodies it rests on
+};
+Footing footing(const std::vector<BodySource>& sources, std::optional<double> ground_height_m);
 
 // Widens each panel's clearing distance to the contiguous coplanar surface it lies in
 // (clearing_surfaces.cpp).

@@ -71,12 +71,15 @@ void prepare_world(const scene::Scene& scene, Model& model) {
   model.timing.time_step_s = sim.time_step_s;
   model.timing.tolerance = sim.tolerance;
   model.timing.sleep = sim.sleep;
+  model.collisions = sim.collisions == scene::CollisionMode::on    ? Collisions::on
+                     : sim.collisions == scene::CollisionMode::off ? Collisions::off
+                                                                   : Collisions::automatic;
 }
 
 // One body from its source: mass properties, hull, drag shape and panels; its hold and how it
 // starts (anchored, held, or falling).
-void prepare_body(BodySource& source, double normal_force_n, double gravity, Model& model,
-                  Stats& stats) {
+void prepare_body(BodySource& source, double normal_force_n, bool standing, double gravity,
+                  Model& model, Stats& stats) {
   const auto index = static_cast<std::uint32_t>(model.bodies.size());
   // Fragments: the prism's mass properties in closed form (thesis §§6.3-6.4).
   const geometry::MassProperties& unit = source.unit_mass;
@@ -120,10 +123,11 @@ void prepare_body(BodySource& source, double normal_force_n, double gravity, Mod
   if (source.anchored) {
     motion = Motion::anchored;
     ++stats.bodies_anchored;
-  } else if (!breakaway && hold <= 0.0 && gravity > 0.0) {
-    motion = Motion::awake;  // nothing holds it: it falls from the start
+  } else if (!breakaway && (hold <= 0.0 || !standing) && gravity > 0.0) {
+    motion = Motion::awake;  // nothing holds it, or it stands on nothing: it falls from the start
   }
   model.initial_motion.push_back(motion);
+  model.friction.push_back(source.friction);
   model.fragment.push_back(source.fragment ? 1 : 0);
   model.release_not_before_s.push_back(source.release_not_before_s);
   // Friction from the ground is the contact's job once the body moves; the hold's eq. 2.40
@@ -178,8 +182,11 @@ Model prepare(const scene::Scene& scene, std::vector<BodySource>& sources,
   prepare_world(scene, model);
   const double gravity = scene.environment.gravity_m_s2.norm();
   const std::vector<double> normal_force = supported_weights(sources, gravity);
+  Footing feet = footing(
+      sources, model.ground ? std::optional(model.ground->height_m) : std::optional<double>());
   for (std::size_t b = 0; b < sources.size(); ++b)
-    prepare_body(sources[b], normal_force[b], gravity, model, stats);
+    prepare_body(sources[b], normal_force[b], feet.standing[b], gravity, model, stats);
+  model.supports = std::move(feet.supports);
 
   for (const scene::ChargeSpec& charge : scene.charges)
     model.charges.push_back(ChargeModel{charge.position, blast_charge(charge)});

@@ -1,6 +1,7 @@
 // sim/engine/prepare_holds: the prepare stage behind friction holds (thesis §3.6) — the weight
 // each body presses down with, its own plus its share of the bodies resting on it.
 #include <algorithm>
+#include <numeric>
 #include <utility>
 
 #include "sim/engine/model.hpp"
@@ -13,46 +14,102 @@ namespace brisance::engine {
 // the other's top and their footprints overlap; its load is split between its supports in
 // proportion to the overlap areas. Loads are static: a body keeps its hold when the bodies above
 // it are blown off.
-std::vector<double> supported_weights(const std::vector<BodySource>& sources, double gravity) {
-  constexpr double kContactGap_m = 5e-3;
+namespace {
+
+constexpr double kContactGap_m = 5e-3;
+
+// The world boxes of the sources and their indices by the height of their top, to find the
+// supports of each bottom quickly.
+struct Stack {
+  std::vector<Box> boxes;
+  std::vector<std::size_t> by_top;
+};
+
+Stack stack_of(const std::vector<BodySource>& sources) {
+  Stack stack;
   const std::size_t n = sources.size();
-  std::vector<Box> boxes(n);
+  stack.boxes.resize(n);
   for (std::size_t i = 0; i < n; ++i)
-    boxes[i] = world_box(sources[i]);
-  // Bodies by the height of their top, to find the supports of each bottom quickly.
-  std::vector<std::size_t> by_top(n);
-  for (std::size_t i = 0; i < n; ++i)
-    by_top[i] = i;
-  std::sort(by_top.begin(), by_top.end(),
-            [&](std::size_t a, std::size_t b) { return boxes[a].max.y() < boxes[b].max.y(); });
+    stack.boxes[i] = world_box(sources[i]);
+  stack.by_top.resize(n);
+  std::iota(stack.by_top.begin(), stack.by_top.end(), std::size_t{0});
+  std::sort(stack.by_top.begin(), stack.by_top.end(), [&](std::size_t a, std::size_t b) {
+    return stack.boxes[a].max.y() < stack.boxes[b].max.y();
+  });
+  return stack;
+}
+
+// The bodies `body` rests on (its bottom within 5 mm of their top, footprints overlapping),
+// with the overlap areas, m^2.
+void supports_of(const Stack& stack, std::size_t body,
+                 std::vector<std::pair<std::size_t, double>>& supports) {
+  const std::vector<Box>& boxes = stack.boxes;
+  const Box& a = boxes[body];
+  auto first = std::lower_bound(stack.by_top.begin(), stack.by_top.end(), a.min.y() - kContactGap_m,
+                                [&](std::size_t j, double y) { return boxes[j].max.y() < y; });
+  supports.clear();
+  for (auto it = first; it != stack.by_top.end() && boxes[*it].max.y() <= a.min.y() + kContactGap_m;
+       ++it) {
+    if (*it == body) continue;
+    const Box& b = boxes[*it];
+    const double dx = std::min(a.max.x(), b.max.x()) - std::max(a.min.x(), b.min.x());
+    const double dz = std::min(a.max.z(), b.max.z()) - std::max(a.min.z(), b.min.z());
+    if (dx <= 0.0 || dz <= 0.0) continue;
+    supports.emplace_back(*it, dx * dz);
+  }
+}
+
+}  // namespace
+
+std::vector<double> supported_weights(const std::vector<BodySource>& sources, double gravity) {
+  const std::size_t n = sources.size();
+  const Stack stack = stack_of(sources);
   // Highest bottoms first, so a body's load is complete before it is passed down.
-  std::vector<std::size_t> by_bottom = by_top;
-  std::sort(by_bottom.begin(), by_bottom.end(),
-            [&](std::size_t a, std::size_t b) { return boxes[a].min.y() > boxes[b].min.y(); });
+  std::vector<std::size_t> by_bottom = stack.by_top;
+  std::sort(by_bottom.begin(), by_bottom.end(), [&](std::size_t a, std::size_t b) {
+    return stack.boxes[a].min.y() > stack.boxes[b].min.y();
+  });
   std::vector<double> weight(n);
   for (std::size_t i = 0; i < n; ++i)
     weight[i] = sources[i].mass_kg * gravity;
   std::vector<std::pair<std::size_t, double>> supports;
   for (std::size_t body : by_bottom) {
-    const Box& a = boxes[body];
-    auto first = std::lower_bound(by_top.begin(), by_top.end(), a.min.y() - kContactGap_m,
-                                  [&](std::size_t j, double y) { return boxes[j].max.y() < y; });
-    supports.clear();
+    supports_of(stack, body, supports);
     double total = 0.0;
-    for (auto it = first; it != by_top.end() && boxes[*it].max.y() <= a.min.y() + kContactGap_m;
-         ++it) {
-      if (*it == body) continue;
-      const Box& b = boxes[*it];
-      const double dx = std::min(a.max.x(), b.max.x()) - std::max(a.min.x(), b.min.x());
-      const double dz = std::min(a.max.z(), b.max.z()) - std::max(a.min.z(), b.min.z());
-      if (dx <= 0.0 || dz <= 0.0) continue;
-      supports.emplace_back(*it, dx * dz);
-      total += dx * dz;
-    }
+    for (const auto& [support, overlap] : supports)
+      total += overlap;
     for (const auto& [support, overlap] : supports)
       weight[support] += weight[body] * overlap / total;
   }
   return weight;
+}
+
+Footing footing(const std::vector<BodySource>& sources, std::optional<double> ground_height_m) {
+  const std::size_t n = sources.size();
+  const Stack stack = stack_of(sources);
+  // Lowest bottoms first: a body's supports (whose tops meet its bottom) are decided before it.
+  std::vector<std::size_t> by_bottom = stack.by_top;
+  std::sort(by_bottom.begin(), by_bottom.end(), [&](std::size_t a, std::size_t b) {
+    return stack.boxes[a].min.y() < stack.boxes[b].min.y();
+  });
+  Footing result;
+  result.standing.assign(n, 0);
+  result.supports.assign(n, {});
+  std::vector<std::pair<std::size_t, double>> supports;
+  for (std::size_t body : by_bottom) {
+    const BodySource& source = sources[body];
+    const bool on_ground =
+        ground_height_m && stack.boxes[body].min.y() <= *ground_height_m + kContactGap_m;
+    bool standing = on_ground || source.anchored || source.breakaway_hold_n;
+    supports_of(stack, body, supports);
+    for (const auto& [support, overlap] : supports) {
+      if (!result.standing[support]) continue;
+      result.supports[body].push_back(static_cast<std::uint32_t>(support));
+      standing = true;
+    }
+    result.standing[body] = standing ? 1 : 0;
+  }
+  return result;
 }
 
 }  // namespace brisance::engine

@@ -53,6 +53,12 @@ struct Stats {
   std::uint64_t panes_broken = 0;        // breakable panes cut into fragments
   std::uint64_t panes_not_broken = 0;    // stress below strength: no fracture work at all
   std::uint64_t fragments = 0;           // fragment bodies made
+  // Contacts between bodies (issue 13), summed over steps: pairs whose boxes met (broadphase),
+  // pairs skipped by `collisions: "auto"` (moving apart, not touching last step), and contact
+  // points solved.
+  std::uint64_t collision_pairs = 0;
+  std::uint64_t collision_pairs_skipped = 0;
+  std::uint64_t contact_points = 0;
 };
 
 // Mean and percentiles of a per-fragment quantity (nearest-rank percentiles); all zero when

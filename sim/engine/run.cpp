@@ -172,6 +172,8 @@ void Run::integrate_awake(double dt) {
     bool touching = false;
     if (model_.ground)
       touching = dynamics::resolve_ground_contact(body, state, *model_.ground, &state_.contacts[b]);
+    // Resting on another body counts as resting (its contacts were found last step).
+    if (!state_.touching_body.empty()) touching = touching || state_.touching_body[b];
     if (!finite(state)) {
       state = before;
       state_.motion[b] = Motion::asleep;
@@ -271,6 +273,7 @@ void Run::init() {
   state_.panel_loaded.assign(model_.panels.size(), 0);
   for (std::uint32_t b = 0; b < bodies; ++b)
     if (state_.motion[b] != Motion::anchored) state_.candidates.push_back(b);
+  init_collisions();
 
   const Timing& sim = model_.timing;
   state_.frame_count =
@@ -281,14 +284,15 @@ void Run::init() {
   record_frame();
 }
 
-// One step over [t0, t1], as named phases. Body-body contacts will be one more phase after
-// integrate_awake (which resolves ground contact body by body, in the same pass as the
-// integration, so the states are swept once).
+// One step over [t0, t1], as named phases. integrate_awake resolves ground contact body by
+// body, in the same pass as the integration, so the states are swept once; contacts between
+// bodies follow (collide.cpp).
 void Run::step(double t0, double t1) {
   activate_arrivals(t1);
   apply_loads(t0, t1);
   release_held(t0, t1);
   integrate_awake(t1 - t0);
+  collide(t1 - t0);
   ++result_.stats.steps;
 }
 

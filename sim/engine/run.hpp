@@ -1,14 +1,17 @@
 // sim/engine/run (private to the engine): the stepping of one prepared Model. Everything that
 // changes while stepping lives in RunState (STYLE.md §1); Run reads the Model, writes the state,
 // and fills the Result: init, a loop of steps, finish. A step is a short list of named phases;
-// body-body contacts will be one more.
+// contacts between bodies are the last (collide.cpp).
 #pragma once
 
 #include <cmath>
 #include <cstdint>
+#include <unordered_set>
 #include <vector>
 
 #include "sim/blast/panel_load.hpp"
+#include "sim/dynamics/body_contact.hpp"
+#include "sim/dynamics/convex.hpp"
 #include "sim/dynamics/ground_contact.hpp"
 #include "sim/dynamics/rigid_body.hpp"
 #include "sim/engine/model.hpp"
@@ -51,6 +54,25 @@ struct RunState {
   std::vector<std::uint32_t> candidates;  // bodies that may move (all but anchored)
   std::vector<Pose> candidate_poses;      // frame-major over candidates
   std::size_t frame_count = 0;
+  // Contacts between bodies (collide.cpp): shapes, their world placement, the sweep order
+  // kept from step to step (nearly sorted: insertion sort), last step's impulses, and whether
+  // each body touched another body last step (for sleeping).
+  std::vector<dynamics::CollisionShape> shapes;
+  std::vector<std::vector<dynamics::PlacedPiece>> placed;
+  std::vector<dynamics::BodyState> placed_state;  // the state each body was placed at
+  std::vector<std::uint8_t> placed_valid;
+  std::vector<Vec3> box_min, box_max;  // world boxes, grown by the step's motion
+  std::vector<std::uint32_t> sweep_order;
+  dynamics::ContactImpulses contact_impulses, next_contact_impulses;
+  std::vector<std::uint8_t> touching_body;
+  // The step's buffers, kept to spare their allocations.
+  std::vector<dynamics::PairContact> pair_contacts, sorted_contacts;
+  std::vector<std::uint32_t> contact_held, sorted_held;
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;
+  std::vector<double> margin;
+  // `auto`: pairs of a fragment and an anchored body (its frame) meeting at the start.
+  std::unordered_set<std::uint64_t> start_neighbours;
+  std::unordered_set<std::uint64_t> touching_pairs, next_touching_pairs;  // contact_key(a, b, 0)
   // Step-size limits gathered while integrating, used for the next step.
   double max_angular_speed_rad_s = 0.0;
   double min_contact_time_s = INFINITY;
@@ -78,6 +100,8 @@ class Run {
   void apply_loads(double t0, double t1);
   void release_held(double t0, double t1);
   void integrate_awake(double dt);  // with ground contact and sleeping
+  void collide(double dt);          // contacts between bodies (collide.cpp)
+  void init_collisions();
 
   void activate(const PanelEvent& event);
   double next_step(double t, double until) const;

@@ -88,7 +88,8 @@ json stats_to_json(const engine::Stats& stats) {
   const auto& [steps, simulated_time_s, wall_time_s, ended_early, bodies, bodies_anchored,
                bodies_never_released, bodies_slept, bodies_static_in_frames, panels, panels_loaded,
                panels_back_facing, panels_not_reached, body_steps, occlusion_skipped,
-               panels_shielded, panes_broken, panes_not_broken, fragments] = stats;
+               panels_shielded, panes_broken, panes_not_broken, fragments, collision_pairs,
+               collision_pairs_skipped, contact_points] = stats;
   return json{{"steps", steps},
               {"simulated_time_s", simulated_time_s},
               {"wall_time_s", wall_time_s},
@@ -107,7 +108,10 @@ json stats_to_json(const engine::Stats& stats) {
               {"occlusion_skipped", occlusion_skipped},
               {"panes_broken", panes_broken},
               {"panes_not_broken", panes_not_broken},
-              {"fragments", fragments}};
+              {"fragments", fragments},
+              {"collision_pairs", collision_pairs},
+              {"collision_pairs_skipped", collision_pairs_skipped},
+              {"contact_points", contact_points}};
 }
 
 json distribution_to_json(const engine::Distribution& d) {

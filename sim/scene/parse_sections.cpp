@@ -22,6 +22,11 @@ constexpr std::array<Choice<blast::SurfaceBurstModel>, 2> kSurfaceBurstModels = 
     {"hemispherical", blast::SurfaceBurstModel::hemispherical},
     {"factor_1_8", blast::SurfaceBurstModel::factor_1_8},
 }};
+constexpr std::array<Choice<CollisionMode>, 3> kCollisionModes = {{
+    {"auto", CollisionMode::automatic},
+    {"on", CollisionMode::on},
+    {"off", CollisionMode::off},
+}};
 constexpr std::array<Choice<OcclusionMode>, 3> kOcclusionModes = {{
     {"auto", OcclusionMode::automatic},
     {"on", OcclusionMode::on},
@@ -136,7 +141,8 @@ SimulationSpec parse_simulation(const json& value, const std::string& pointer, c
   const Fields fields(value, pointer, errors, "'simulation'",
                       {"duration", "frame_rate", "time_step", "tolerance", "seed", "clearing",
                        "occlusion", "shielding", "integrator", "pulse", "max_panel_area",
-                       "linear_damping", "angular_damping", "rotation_factor", "sleep"});
+                       "linear_damping", "angular_damping", "rotation_factor", "sleep",
+                       "collisions"});
   simulation.duration_s =
       fields.number("duration", simulation.duration_s,
                     range(0.0, true, limits.max_duration_s, false, "s", "max_duration_s"));
@@ -172,6 +178,7 @@ SimulationSpec parse_simulation(const json& value, const std::string& pointer, c
   simulation.occlusion = fields.choice("occlusion", simulation.occlusion, kOcclusionModes);
   if (const json* shielding = fields.get("shielding"))
     simulation.shielding = parse_shielding(*shielding, fields.at("shielding"), errors);
+  simulation.collisions = fields.choice("collisions", simulation.collisions, kCollisionModes);
   simulation.integrator = fields.choice("integrator", simulation.integrator, kIntegrators);
   simulation.pulse_shape = fields.choice("pulse", simulation.pulse_shape, kPulseShapes);
   simulation.max_panel_area_m2 =

@@ -113,6 +113,9 @@ struct ObjectSpec {
 
 enum class Integrator { explicit_euler, semi_implicit_euler, rk4 };
 enum class OcclusionMode { automatic, on, off };
+// Contacts between bodies (issue 13): `automatic` skips pairs that cannot meet (both at rest or
+// held, or moving apart without touching) and reports them in stats.
+enum class CollisionMode { automatic, on, off };
 
 // The shielding heuristic's parameters (thesis §4.2, sim/occlusion, docs/occlusion.md).
 struct ShieldingSpec {
@@ -131,6 +134,7 @@ struct SimulationSpec {
   bool clearing = true;
   OcclusionMode occlusion = OcclusionMode::automatic;
   ShieldingSpec shielding;
+  CollisionMode collisions = CollisionMode::off;  // off by default until stacks settle (issue 13)
   Integrator integrator = Integrator::semi_implicit_euler;
   blast::PulseShape pulse_shape = blast::PulseShape::friedlander;
   double max_panel_area_m2 = 0.05;  // larger faces are cut into panels of at most this

@@ -616,7 +616,7 @@ async function sceneSchemaAgreement(s) {
         spacing: [0, 0.01, 0], density: 800, friction: 0.5 },
     ],
     simulation: { duration: 0.05, frame_rate: 20, tolerance: 0.01, seed: 7, clearing: false, occlusion: "off", integrator: "rk4",
-                  pulse: "triangle_same_period", max_panel_area: 0.5, linear_damping: 0.1, angular_damping: 0.1, rotation_factor: 0.5, sleep: false },
+                  pulse: "triangle_same_period", max_panel_area: 0.5, linear_damping: 0.1, angular_damping: 0.1, rotation_factor: 0.5, sleep: false, collisions: "on" },
   };
   const valid = [
     ["every field", everything],

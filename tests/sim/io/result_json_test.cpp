@@ -75,7 +75,10 @@ engine::Result synthetic_result() {
                   .panels_shielded = 9,
                   .panes_broken = 1,
                   .panes_not_broken = 7,
-                  .fragments = 2};
+                  .fragments = 2,
+                  .collision_pairs = 90,
+                  .collision_pairs_skipped = 8,
+                  .contact_points = 150};
   result.warnings.push_back({"blast_out_of_range", "scaled distance above the fit", 7});
   engine::PaneReport pane;
   pane.name = "window/pane";
@@ -245,7 +248,10 @@ TEST(ResultJson, StatsHoldEveryFieldUnderItsMemberName) {
                          {"panels_shielded", 9},
                          {"panes_broken", 1},
                          {"panes_not_broken", 7},
-                         {"fragments", 2}};
+                         {"fragments", 2},
+                         {"collision_pairs", 90},
+                         {"collision_pairs_skipped", 8},
+                         {"contact_points", 150}};
   EXPECT_EQ(stats, expected) << stats.dump();
   EXPECT_EQ(stats_to_json(result.stats), expected);
 }

@@ -15,6 +15,8 @@ const STAT_LABELS: Record<string, string> = {
   panels_back_facing: "Panels sheltered from every charge", panels_not_reached: "Panels not reached",
   body_steps: "Body steps", occlusion_skipped: "Occlusion skipped",
   panels_shielded: "Panels wholly shielded",
+  collision_pairs: "Collision pairs (broadphase)", collision_pairs_skipped: "Collision pairs skipped",
+  contact_points: "Contact points",
 };
 
 function statsTable(stats: RunStats): HTMLElement {

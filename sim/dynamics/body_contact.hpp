@@ -1,0 +1,67 @@
+// sim/dynamics/body_contact: contacts between bodies (and, for the bodies in them, the ground)
+// solved together by warm-started sequential impulses with Coulomb friction and restitution,
+// the scheme of ground_contact.hpp extended to pairs (issue 13). The engine finds the contact
+// points (convex.hpp) and hands them here with the velocities of the bodies involved; static
+// partners (the ground, anchored and held bodies) have zero inverse mass.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <unordered_map>
+#include <vector>
+
+#include "sim/dynamics/rigid_body.hpp"
+
+namespace brisance::dynamics {
+
+// A body in the solve: its velocities (world frame) and inverse mass and inertia (world frame;
+// zero for a static partner).
+struct SolverBody {
+  Vec3 velocity = Vec3::Zero();
+  Vec3 omega = Vec3::Zero();
+  double inverse_mass = 0.0;
+  Mat3 inverse_inertia = Mat3::Zero();
+  Vec3 position_shift = Vec3::Zero();  // out of penetration, m (written by the solve)
+};
+
+inline const std::array<Vec3, 3> kZeros = {Vec3::Zero(), Vec3::Zero(), Vec3::Zero()};
+
+struct PairContact {
+  std::uint32_t a = 0, b = 0;   // solver bodies; the normal points from a to b
+  Vec3 point = Vec3::Zero();    // world, m
+  Vec3 normal = Vec3::UnitY();  // world, unit
+  double depth_m = 0.0;         // penetration; negative: a gap (a speculative contact)
+  double friction = 0.0;
+  double restitution = 0.0;
+  double gravity_speed_m_s = 0.0;  // the normal speed of b relative to a that gravity added
+  std::uint64_t key = 0;           // stable id of the contact across steps, for warm starting
+  Vec3 arm_a = Vec3::Zero(),
+       arm_b = Vec3::Zero();  // from each centre of mass to the point, world, m (zero for static)
+  // Filled by the solve.
+  Vec3 tangent_u = Vec3::Zero(), tangent_v = Vec3::Zero();
+  // Per direction (normal, u, v): arm x direction for a and b, and the spin one unit of
+  // impulse gives each body (I^-1 (arm x direction)), so a sweep is dot products and adds.
+  std::array<Vec3, 3> lever_a = kZeros, lever_b = kZeros, spin_a = kZeros, spin_b = kZeros;
+  double mass_normal = 0.0, mass_u = 0.0, mass_v = 0.0;
+  double target_speed = 0.0;
+  double normal_impulse = 0.0, friction_u = 0.0, friction_v = 0.0;
+};
+
+// Last step's impulses by contact key (world frame, N s).
+using ContactImpulses = std::unordered_map<std::uint64_t, Vec3>;
+
+struct PairSolveSettings {
+  double dt_s;
+  double bounce_threshold_m_s = 0.5;  // slower impacts do not bounce, as on the ground
+  int iterations = 8;
+  double slop_m = 5e-4;              // penetration left alone (no jitter)
+  double position_correction = 0.6;  // of the penetration beyond the slop, per step
+};
+
+// Solves the contacts: velocities of `bodies` updated in place, each contact's impulses set,
+// and `next` filled with them for the next step's warm start.
+void solve_pair_contacts(std::vector<SolverBody>& bodies, std::vector<PairContact>& contacts,
+                         const ContactImpulses& last, ContactImpulses& next,
+                         const PairSolveSettings& settings);
+
+}  // namespace brisance::dynamics

@@ -1,0 +1,448 @@
+// sim/dynamics/convex: collision shapes (convex pieces) and the separating-axis narrowphase.
+#include "sim/dynamics/convex.hpp"
+
+#include <algorithm>
+#include <cassert>
+#include <cmath>
+#include <limits>
+
+namespace brisance::dynamics {
+
+namespace {
+
+struct Plane {
+  Vec3 normal;
+  double offset;
+};
+
+// The faces of the convex hull of `points` by brute force: every plane through three points
+// with all points on one side. O(n^4) for n points, which is why only pieces of at most
+// kMaxHullVertices points come here (a box: 56 triples).
+std::vector<Plane> hull_planes(const std::vector<Vec3>& points, double scale) {
+  std::vector<Plane> planes;
+  const std::size_t n = points.size();
+  const double tolerance = 1e-9 * scale;
+  for (std::size_t i = 0; i < n; ++i)
+    for (std::size_t j = i + 1; j < n; ++j)
+      for (std::size_t k = j + 1; k < n; ++k) {
+        Vec3 normal = (points[j] - points[i]).cross(points[k] - points[i]);
+        const double length = normal.norm();
+        if (length <= 1e-12 * scale * scale) continue;
+        normal /= length;
+        const double offset = normal.dot(points[i]);
+        bool above = false, below = false;
+        for (const Vec3& p : points) {
+          const double d = normal.dot(p) - offset;
+          above = above || d > tolerance;
+          below = below || d < -tolerance;
+        }
+        if (above && below) continue;
+        const Plane plane = above ? Plane{-normal, -offset} : Plane{normal, offset};
+        const bool known = std::any_of(planes.begin(), planes.end(), [&](const Plane& q) {
+          return q.normal.dot(plane.normal) > 1.0 - 1e-9;
+        });
+        if (!known) planes.push_back(plane);
+      }
+  return planes;
+}
+
+// A piece from its points and its face planes: the points on the hull, its edges (pairs of
+// points sharing two faces) and their directions, and its bounding sphere.
+ConvexPiece piece_from(const std::vector<Vec3>& points, const std::vector<Plane>& planes,
+                       double scale) {
+  ConvexPiece piece;
+  const double tolerance = 1e-7 * scale;
+  std::vector<std::vector<std::size_t>> faces_of;  // per kept vertex: the planes it lies on
+  for (const Vec3& p : points) {
+    std::vector<std::size_t> on;
+    for (std::size_t f = 0; f < planes.size(); ++f)
+      if (std::abs(planes[f].normal.dot(p) - planes[f].offset) <= tolerance) on.push_back(f);
+    if (on.empty()) continue;  // inside the hull
+    piece.vertices.push_back(p);
+    faces_of.push_back(std::move(on));
+  }
+  for (const Plane& plane : planes) {
+    piece.normals.push_back(plane.normal);
+    piece.offsets.push_back(plane.offset);
+  }
+  const std::size_t n = piece.vertices.size();
+  assert(n <= 255);
+  for (std::size_t i = 0; i < n; ++i)
+    for (std::size_t j = i + 1; j < n; ++j) {
+      // An edge: the two points share two faces (sorted lists).
+      std::size_t shared = 0;
+      for (std::size_t f : faces_of[i])
+        shared += std::count(faces_of[j].begin(), faces_of[j].end(), f);
+      if (shared < 2) continue;
+      piece.edges.push_back({static_cast<std::uint8_t>(i), static_cast<std::uint8_t>(j)});
+      const Vec3 direction = (piece.vertices[j] - piece.vertices[i]).normalized();
+      const bool known =
+          std::any_of(piece.edge_directions.begin(), piece.edge_directions.end(),
+                      [&](const Vec3& e) { return std::abs(e.dot(direction)) > 1.0 - 1e-9; });
+      if (!known) piece.edge_directions.push_back(direction);
+    }
+  Vec3 low = piece.vertices.front(), high = low;
+  for (const Vec3& v : piece.vertices) {
+    low = low.cwiseMin(v);
+    high = high.cwiseMax(v);
+  }
+  piece.centre = 0.5 * (low + high);
+  for (const Vec3& v : piece.vertices)
+    piece.radius_m = std::max(piece.radius_m, (v - piece.centre).norm());
+  return piece;
+}
+
+ConvexPiece hull_piece(const std::vector<Vec3>& points, double scale) {
+  return piece_from(points, hull_planes(points, scale), scale);
+}
+
+// The mesh's own triangle planes, if every vertex lies behind every one of them (convex).
+bool convex_planes(const geometry::TriangleMesh& mesh, const std::vector<Vec3>& points,
+                   double scale, std::vector<Plane>& planes) {
+  const double tolerance = 1e-9 * scale;
+  for (const auto& t : mesh.triangles) {
+    const Vec3 a = points[t[0]], b = points[t[1]], c = points[t[2]];
+    const Vec3 normal = (b - a).cross(c - a).normalized();
+    const double offset = normal.dot(a);
+    for (const Vec3& p : points)
+      if (normal.dot(p) - offset > tolerance) return false;
+    const bool known = std::any_of(planes.begin(), planes.end(), [&](const Plane& q) {
+      return q.normal.dot(normal) > 1.0 - 1e-9;
+    });
+    if (!known) planes.push_back(Plane{normal, offset});
+  }
+  return true;
+}
+
+// A prism (a polygon extruded along one axis, as fragments are) collides as the prism of its
+// outline's convex hull: one piece, built directly (caps, one side per hull edge). False if
+// the mesh is not such a prism. Rejected: one triangular prism per triangle of the cap (the
+// triangulation the fragment was built from) — up to 80 pieces for a wiggly crack outline,
+// whose inner faces gave poor contact normals; fragments spun up to 250 rad/s on window.json.
+bool prism_piece(const geometry::TriangleMesh& mesh, const std::vector<Vec3>& points, double scale,
+                 CollisionShape& shape) {
+  // The axis: the normal of the first triangle; every vertex on one of two planes across it.
+  const auto& first = mesh.triangles.front();
+  const Vec3 axis =
+      (points[first[1]] - points[first[0]]).cross(points[first[2]] - points[first[0]]).normalized();
+  const double tolerance = 1e-7 * scale;
+  const double top = axis.dot(points[first[0]]);
+  double bottom = top;
+  for (const Vec3& p : points) {
+    const double h = axis.dot(p);
+    if (std::abs(h - top) <= tolerance) continue;
+    if (bottom == top) bottom = h;
+    if (std::abs(h - bottom) > tolerance) return false;
+  }
+  if (bottom == top) return false;
+  // The outline's convex hull in the cap plane (Andrew's monotone chain), counter-clockwise
+  // seen from +axis.
+  const Vec3 e1 = std::abs(axis.x()) < 0.57 ? Vec3(Vec3::UnitX().cross(axis).normalized())
+                                            : Vec3(Vec3::UnitY().cross(axis).normalized());
+  const Vec3 e2 = axis.cross(e1);
+  std::vector<std::pair<double, double>> cap;
+  for (const Vec3& p : points)
+    if (std::abs(axis.dot(p) - top) <= tolerance) cap.emplace_back(e1.dot(p), e2.dot(p));
+  std::sort(cap.begin(), cap.end());
+  cap.erase(std::unique(cap.begin(), cap.end()), cap.end());
+  if (cap.size() < 3) return false;
+  auto turn = [](const std::pair<double, double>& o, const std::pair<double, double>& a,
+                 const std::pair<double, double>& b) {
+    return (a.first - o.first) * (b.second - o.second) -
+           (a.second - o.second) * (b.first - o.first);
+  };
+  std::vector<std::pair<double, double>> hull(2 * cap.size());
+  std::size_t k = 0;
+  for (std::size_t i = 0; i < cap.size(); ++i) {
+    while (k >= 2 && turn(hull[k - 2], hull[k - 1], cap[i]) <= 0.0)
+      --k;
+    hull[k++] = cap[i];
+  }
+  for (std::size_t i = cap.size() - 1, lower = k + 1; i-- > 0;) {
+    while (k >= lower && turn(hull[k - 2], hull[k - 1], cap[i]) <= 0.0)
+      --k;
+    hull[k++] = cap[i];
+  }
+  hull.resize(k - 1);
+  const std::size_t h = std::min<std::size_t>(hull.size(), 127);
+  ConvexPiece piece;
+  for (std::size_t i = 0; i < h; ++i)
+    piece.vertices.push_back(hull[i].first * e1 + hull[i].second * e2 + top * axis);
+  for (std::size_t i = 0; i < h; ++i)
+    piece.vertices.push_back(hull[i].first * e1 + hull[i].second * e2 + bottom * axis);
+  const double up = top > bottom ? 1.0 : -1.0;
+  piece.normals = {up * axis, -up * axis};
+  piece.offsets = {up * top, -up * bottom};
+  piece.edge_directions.push_back(axis);
+  for (std::size_t i = 0; i < h; ++i) {
+    const std::size_t j = (i + 1) % h;
+    const Vec3 along = piece.vertices[j] - piece.vertices[i];
+    const Vec3 outward = along.cross(axis).normalized();  // counter-clockwise about +axis
+    piece.normals.push_back(outward);
+    piece.offsets.push_back(outward.dot(piece.vertices[i]));
+    piece.edges.push_back({static_cast<std::uint8_t>(i), static_cast<std::uint8_t>(j)});
+    piece.edges.push_back({static_cast<std::uint8_t>(h + i), static_cast<std::uint8_t>(h + j)});
+    piece.edges.push_back({static_cast<std::uint8_t>(i), static_cast<std::uint8_t>(h + i)});
+    const Vec3 direction = along.normalized();
+    const bool known =
+        std::any_of(piece.edge_directions.begin(), piece.edge_directions.end(),
+                    [&](const Vec3& e) { return std::abs(e.dot(direction)) > 1.0 - 1e-9; });
+    if (!known) piece.edge_directions.push_back(direction);
+  }
+  Vec3 low = piece.vertices.front(), high = low;
+  for (const Vec3& v : piece.vertices) {
+    low = low.cwiseMin(v);
+    high = high.cwiseMax(v);
+  }
+  piece.centre = 0.5 * (low + high);
+  for (const Vec3& v : piece.vertices)
+    piece.radius_m = std::max(piece.radius_m, (v - piece.centre).norm());
+  shape.pieces.push_back(std::move(piece));
+  return true;
+}
+
+}  // namespace
+
+CollisionShape collision_shape(const geometry::TriangleMesh& mesh, const Vec3& centre_of_mass) {
+  CollisionShape shape;
+  std::vector<Vec3> points;
+  points.reserve(mesh.vertices.size());
+  double scale = 0.0;
+  for (const Vec3& v : mesh.vertices) {
+    points.push_back(v - centre_of_mass);
+    scale = std::max(scale, points.back().cwiseAbs().maxCoeff());
+  }
+  if (points.empty() || mesh.triangles.empty()) return shape;
+  std::vector<Plane> planes;
+  std::vector<Vec3> unique;
+  for (const Vec3& p : points)
+    if (std::find(unique.begin(), unique.end(), p) == unique.end()) unique.push_back(p);
+  if (convex_planes(mesh, points, scale, planes)) {
+    shape.pieces.push_back(unique.size() <= kMaxHullVertices ? hull_piece(unique, scale)
+                                                             : piece_from(unique, planes, scale));
+    return shape;
+  }
+  if (prism_piece(mesh, points, scale, shape)) return shape;
+  shape.from_hull = true;
+  if (unique.size() <= kMaxHullVertices) {
+    shape.pieces.push_back(hull_piece(unique, scale));
+    return shape;
+  }
+  // Too many points for the brute-force hull: the body-frame bounding box.
+  Vec3 low = unique.front(), high = low;
+  for (const Vec3& v : unique) {
+    low = low.cwiseMin(v);
+    high = high.cwiseMax(v);
+  }
+  std::vector<Vec3> corners;
+  for (int i = 0; i < 8; ++i)
+    corners.emplace_back(i & 1 ? high.x() : low.x(), i & 2 ? high.y() : low.y(),
+                         i & 4 ? high.z() : low.z());
+  shape.pieces.push_back(hull_piece(corners, scale));
+  return shape;
+}
+
+void place(const ConvexPiece& piece, const Vec3& position, const Mat3& rotation, PlacedPiece& out) {
+  out.piece = &piece;
+  out.vertices.resize(piece.vertices.size());
+  out.min = Vec3::Constant(INFINITY);
+  out.max = Vec3::Constant(-INFINITY);
+  for (std::size_t i = 0; i < piece.vertices.size(); ++i) {
+    out.vertices[i] = position + rotation * piece.vertices[i];
+    out.min = out.min.cwiseMin(out.vertices[i]);
+    out.max = out.max.cwiseMax(out.vertices[i]);
+  }
+  out.normals.resize(piece.normals.size());
+  out.offsets.resize(piece.normals.size());
+  for (std::size_t f = 0; f < piece.normals.size(); ++f) {
+    out.normals[f] = rotation * piece.normals[f];
+    out.offsets[f] = piece.offsets[f] + out.normals[f].dot(position);
+  }
+  out.edge_directions.resize(piece.edge_directions.size());
+  for (std::size_t e = 0; e < piece.edge_directions.size(); ++e)
+    out.edge_directions[e] = rotation * piece.edge_directions[e];
+}
+
+namespace {
+
+void extent(const std::vector<Vec3>& vertices, const Vec3& axis, double& low, double& high) {
+  low = INFINITY;
+  high = -INFINITY;
+  for (const Vec3& v : vertices) {
+    const double d = axis.dot(v);
+    low = std::min(low, d);
+    high = std::max(high, d);
+  }
+}
+
+bool inside(const PlacedPiece& piece, const Vec3& p, double margin) {
+  for (std::size_t f = 0; f < piece.normals.size(); ++f)
+    if (piece.normals[f].dot(p) - piece.offsets[f] > margin) return false;
+  return true;
+}
+
+// Closest points of segments p0-p1 and q0-q1 (clamped), returned as their midpoint.
+Vec3 closest_midpoint(const Vec3& p0, const Vec3& p1, const Vec3& q0, const Vec3& q1,
+                      double& distance_squared) {
+  const Vec3 d1 = p1 - p0, d2 = q1 - q0, r = p0 - q0;
+  const double a = d1.squaredNorm(), e = d2.squaredNorm(), f = d2.dot(r);
+  const double c = d1.dot(r), b = d1.dot(d2);
+  const double denominator = a * e - b * b;
+  double s = denominator > 1e-18 ? std::clamp((b * f - c * e) / denominator, 0.0, 1.0) : 0.0;
+  double t = (b * s + f) / e;
+  if (t < 0.0) {
+    t = 0.0;
+    s = std::clamp(-c / a, 0.0, 1.0);
+  } else if (t > 1.0) {
+    t = 1.0;
+    s = std::clamp((b - c) / a, 0.0, 1.0);
+  }
+  const Vec3 x = p0 + s * d1, y = q0 + t * d2;
+  distance_squared = (x - y).squaredNorm();
+  return 0.5 * (x + y);
+}
+
+}  // namespace
+
+bool collide(const PlacedPiece& a, const PlacedPiece& b, double margin_m,
+             std::uint32_t feature_base, Manifold& out) {
+  out.points.clear();
+  if ((a.min.array() > b.max.array() + margin_m).any() ||
+      (b.min.array() > a.max.array() + margin_m).any())
+    return false;
+  // Separating axes. Face axes first; an edge axis must separate clearly better to be chosen
+  // (by 0.1 margin), so resting faces keep a face normal.
+  double best = -INFINITY;
+  Vec3 axis = Vec3::UnitY();
+  for (std::size_t f = 0; f < a.normals.size(); ++f) {
+    double low, high;
+    extent(b.vertices, a.normals[f], low, high);
+    const double separation = low - a.offsets[f];
+    if (separation > margin_m) return false;
+    if (separation > best) {
+      best = separation;
+      axis = a.normals[f];
+    }
+  }
+  for (std::size_t f = 0; f < b.normals.size(); ++f) {
+    double low, high;
+    extent(a.vertices, b.normals[f], low, high);
+    const double separation = low - b.offsets[f];
+    if (separation > margin_m) return false;
+    if (separation > best) {
+      best = separation;
+      axis = -b.normals[f];
+    }
+  }
+  const Vec3 between = 0.5 * (b.min + b.max - a.min - a.max);
+  bool edge_axis = false;
+  for (const Vec3& ea : a.edge_directions)
+    for (const Vec3& eb : b.edge_directions) {
+      Vec3 candidate = ea.cross(eb);
+      const double length = candidate.norm();
+      if (length < 1e-6) continue;
+      candidate /= length;
+      if (candidate.dot(between) < 0.0) candidate = -candidate;
+      double a_low, a_high, b_low, b_high;
+      extent(a.vertices, candidate, a_low, a_high);
+      extent(b.vertices, candidate, b_low, b_high);
+      const double separation = b_low - a_high;
+      if (separation > margin_m) return false;
+      if (separation > best + 0.1 * margin_m) {
+        best = separation;
+        axis = candidate;
+        edge_axis = true;
+      }
+    }
+  out.normal = axis;
+  double a_low, a_high, b_low, b_high;
+  extent(a.vertices, axis, a_low, a_high);
+  extent(b.vertices, axis, b_low, b_high);
+  // The manifold: vertices of each piece inside the other (within the margin), each at the
+  // midpoint of its penetration along the normal.
+  if (!edge_axis) {
+    for (std::size_t i = 0; i < b.vertices.size(); ++i) {
+      const Vec3& v = b.vertices[i];
+      if (!inside(a, v, margin_m)) continue;
+      const double depth = a_high - axis.dot(v);
+      out.points.push_back(ContactPoint{v + 0.5 * depth * axis, depth,
+                                        feature_base + 128 + static_cast<std::uint32_t>(i)});
+    }
+    const std::size_t from_b = out.points.size();
+    for (std::size_t i = 0; i < a.vertices.size(); ++i) {
+      const Vec3& u = a.vertices[i];
+      if (!inside(b, u, margin_m)) continue;
+      const double depth = axis.dot(u) - b_low;
+      const Vec3 point = u - 0.5 * depth * axis;
+      // Coinciding corners (equal boxes stacked) count once.
+      bool duplicate = false;
+      for (std::size_t k = 0; k < from_b && !duplicate; ++k)
+        duplicate = (out.points[k].point - point).squaredNorm() < margin_m * margin_m;
+      if (!duplicate)
+        out.points.push_back(
+            ContactPoint{point, depth, feature_base + static_cast<std::uint32_t>(i)});
+    }
+  }
+  if (out.points.size() > 4) {
+    // Four points carry a face contact: the extremes along two directions across the normal
+    // (a brick on two others has eight within the margin; the solve costs per point).
+    // (Skewed from the plane's axes, so a rectangle's four corners are four distinct extremes.)
+    const Vec3 x = std::abs(axis.x()) < 0.57 ? Vec3(Vec3::UnitX().cross(axis).normalized())
+                                             : Vec3(Vec3::UnitY().cross(axis).normalized());
+    const Vec3 y = axis.cross(x);
+    const Vec3 u = x + 0.37 * y, v = y - 0.37 * x;
+    std::array<std::size_t, 4> keep = {0, 0, 0, 0};
+    for (std::size_t i = 1; i < out.points.size(); ++i) {
+      const Vec3& p = out.points[i].point;
+      if (p.dot(u) < out.points[keep[0]].point.dot(u)) keep[0] = i;
+      if (p.dot(u) > out.points[keep[1]].point.dot(u)) keep[1] = i;
+      if (p.dot(v) < out.points[keep[2]].point.dot(v)) keep[2] = i;
+      if (p.dot(v) > out.points[keep[3]].point.dot(v)) keep[3] = i;
+    }
+    std::sort(keep.begin(), keep.end());
+    std::vector<ContactPoint> kept;
+    for (std::size_t k = 0; k < 4; ++k)
+      if (k == 0 || keep[k] != keep[k - 1]) kept.push_back(out.points[keep[k]]);
+    out.points.swap(kept);
+  }
+  if (out.points.empty()) {
+    // Edge against edge (or no vertex inside): one point, the closest points of the edges on
+    // each piece's supporting side.
+    const double band = std::max(margin_m, 1e-3 * (a.max - a.min).norm());
+    double closest = INFINITY;
+    Vec3 point = Vec3::Zero();
+    std::uint32_t feature = feature_base + 255;
+    const auto& a_edges = a.piece->edges;
+    const auto& b_edges = b.piece->edges;
+    for (std::size_t i = 0; i < a_edges.size(); ++i) {
+      const Vec3& p0 = a.vertices[a_edges[i][0]];
+      const Vec3& p1 = a.vertices[a_edges[i][1]];
+      if (axis.dot(p0) < a_high - band || axis.dot(p1) < a_high - band) continue;
+      for (std::size_t j = 0; j < b_edges.size(); ++j) {
+        const Vec3& q0 = b.vertices[b_edges[j][0]];
+        const Vec3& q1 = b.vertices[b_edges[j][1]];
+        if (axis.dot(q0) > b_low + band || axis.dot(q1) > b_low + band) continue;
+        double d2;
+        const Vec3 mid = closest_midpoint(p0, p1, q0, q1, d2);
+        if (d2 < closest) {
+          closest = d2;
+          point = mid;
+          feature = feature_base + 192 + static_cast<std::uint32_t>((i * 7 + j) % 60);
+        }
+      }
+    }
+    if (closest == INFINITY) {
+      // A vertex against a face seen only by its support: midway between the supports.
+      std::size_t ia = 0, ib = 0;
+      for (std::size_t i = 0; i < a.vertices.size(); ++i)
+        if (axis.dot(a.vertices[i]) > axis.dot(a.vertices[ia])) ia = i;
+      for (std::size_t i = 0; i < b.vertices.size(); ++i)
+        if (axis.dot(b.vertices[i]) < axis.dot(b.vertices[ib])) ib = i;
+      point = 0.5 * (a.vertices[ia] + b.vertices[ib]);
+    }
+    out.points.push_back(ContactPoint{point, -best, feature});
+  }
+  return true;
+}
+
+}  // namespace brisance::dynamics

@@ -1,0 +1,75 @@
+// sim/dynamics/convex: the collision shapes of bodies and the narrowphase between two of them
+// (issue 13). A body collides as a few convex pieces in its own frame:
+//   - a convex mesh (a box) is one piece, its faces merged by plane;
+//   - a prism that is not convex (a fragment of a pane, extruded from a concave outline) is the
+//     prism of its outline's convex hull (see prism_piece in convex.cpp for the rejected
+//     decomposition into one triangular prism per triangle of its cap);
+//   - any other closed mesh is its convex hull (up to kMaxHullVertices vertices; beyond, its
+//     bounding box). A convex decomposition (V-HACD and kin) is a project of its own and a
+//     user's concave mesh is rare in a blast scene; the hull keeps debris out of it, at the
+//     price of resting on its hull.
+// The narrowphase is separating axes (face normals of both pieces, cross products of their
+// edge directions) with a manifold of the vertices of each piece that lie inside the other
+// (within a margin), the same kind of point contact as the ground's. See docs/simulator.md
+// ("Contacts between bodies") for the benchmark that chose it over libccd's GJK/EPA.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "sim/dynamics/rigid_body.hpp"
+#include "sim/geometry/mesh.hpp"
+
+namespace brisance::dynamics {
+
+struct ConvexPiece {
+  std::vector<Vec3> vertices;                      // body frame, from the centre of mass, m
+  std::vector<Vec3> normals;                       // outward unit face normals, body frame
+  std::vector<double> offsets;                     // face planes: normal . x <= offset, m
+  std::vector<Vec3> edge_directions;               // unit, one per parallel class
+  std::vector<std::array<std::uint8_t, 2>> edges;  // vertex index pairs of the hull's edges
+  Vec3 centre = Vec3::Zero();                      // of the vertices' bounding sphere
+  double radius_m = 0.0;                           // of that sphere
+};
+
+struct CollisionShape {
+  std::vector<ConvexPiece> pieces;
+  bool from_hull = false;  // a concave mesh stood in for by its convex hull (or its box)
+};
+
+inline constexpr std::size_t kMaxHullVertices = 64;
+
+// The collision shape of a closed mesh whose centre of mass is `centre_of_mass` (mesh frame).
+CollisionShape collision_shape(const geometry::TriangleMesh& mesh, const Vec3& centre_of_mass);
+
+// A piece placed in the world: its vertices, normals and edge directions, world frame.
+struct PlacedPiece {
+  std::vector<Vec3> vertices;
+  std::vector<Vec3> normals;
+  std::vector<double> offsets;
+  std::vector<Vec3> edge_directions;
+  const ConvexPiece* piece = nullptr;  // for the edge list
+  Vec3 min, max;                       // world box, m
+};
+void place(const ConvexPiece& piece, const Vec3& position, const Mat3& rotation, PlacedPiece& out);
+
+// One contact point between piece a and piece b: the normal points from a to b.
+struct ContactPoint {
+  Vec3 point;             // world, m, midway between the surfaces
+  double depth_m;         // penetration along the normal; negative: a gap within the margin
+  std::uint32_t feature;  // which vertex of which piece: stable while the pieces stay in touch
+};
+
+struct Manifold {
+  Vec3 normal = Vec3::UnitY();  // world, unit, from a to b
+  std::vector<ContactPoint> points;
+};
+
+// The contact points of pieces a and b if they are within `margin_m` of each other (written to
+// `out`, replacing what it held); returns whether they touch. `feature_base` tags the points
+// of this pair of pieces (a multiple of 256).
+bool collide(const PlacedPiece& a, const PlacedPiece& b, double margin_m,
+             std::uint32_t feature_base, Manifold& out);
+
+}  // namespace brisance::dynamics

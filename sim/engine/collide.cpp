@@ -1,0 +1,385 @@
+// sim/engine/collide: the step's phase of contacts between bodies (issue 13), after
+// integrate_awake — place the shapes, sweep and prune, narrowphase, one sequential-impulse solve
+// of the body contacts and the ground contacts of the bodies in them, then holds and sleeping:
+//   place          convex pieces to world frame (static bodies only when they have moved)
+//   broadphase     sort and sweep along x on world boxes grown by each body's motion in the step;
+//                  the order is kept from step to step, so the insertion sort is near linear
+//   narrowphase    separating axes between convex pieces (dynamics/convex.hpp)
+//   solve          dynamics/body_contact.hpp, with static partners (ground, anchored, held,
+//                  asleep) of zero inverse mass
+//   holds          a held body pushed harder than its hold, or whose supports have all gone,
+//                  is released
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <numeric>
+
+#include "sim/engine/run.hpp"
+#include "sim/engine/sleeping.hpp"
+
+namespace brisance::engine {
+
+namespace {
+
+using dynamics::Mat3;
+
+constexpr double kContactMargin_m = 2e-3;  // speculative distance added to each body's motion
+constexpr std::uint64_t kGroundId = 0xFFFFFF;
+
+std::uint64_t contact_key(std::uint64_t a, std::uint64_t b, std::uint32_t feature) {
+  return (a << 40) | (b << 16) | (feature & 0xFFFFu);
+}
+
+// At most four contacts per pair of bodies (pieces of fragments give many, mostly in one
+// plane): the extremes along two directions across the deepest contact's normal (skewed from
+// its plane's axes, so a rectangle's four corners are four distinct extremes).
+void reduce_pair_contacts(std::vector<dynamics::PairContact>& contacts,
+                          std::vector<std::uint32_t>& held, std::size_t first) {
+  const std::size_t count = contacts.size() - first;
+  if (count <= 4) return;
+  std::size_t deepest = first;
+  for (std::size_t i = first; i < contacts.size(); ++i)
+    if (contacts[i].depth_m > contacts[deepest].depth_m) deepest = i;
+  const Vec3 normal = contacts[deepest].normal;
+  const Vec3 x = std::abs(normal.x()) < 0.57 ? Vec3(Vec3::UnitX().cross(normal).normalized())
+                                             : Vec3(Vec3::UnitY().cross(normal).normalized());
+  const Vec3 y = normal.cross(x);
+  const Vec3 u = x + 0.37 * y, v = y - 0.37 * x;
+  std::array<std::size_t, 4> keep = {first, first, first, first};
+  for (std::size_t i = first; i < contacts.size(); ++i) {
+    const Vec3& p = contacts[i].point;
+    if (p.dot(u) < contacts[keep[0]].point.dot(u)) keep[0] = i;
+    if (p.dot(u) > contacts[keep[1]].point.dot(u)) keep[1] = i;
+    if (p.dot(v) < contacts[keep[2]].point.dot(v)) keep[2] = i;
+    if (p.dot(v) > contacts[keep[3]].point.dot(v)) keep[3] = i;
+  }
+  std::sort(keep.begin(), keep.end());
+  std::size_t out = first;
+  for (std::size_t k = 0; k < 4; ++k) {
+    if (k > 0 && keep[k] == keep[k - 1]) continue;
+    contacts[out] = contacts[keep[k]];
+    held[out] = held[keep[k]];
+    ++out;
+  }
+  contacts.resize(out);
+  held.resize(out);
+}
+
+}  // namespace
+
+void Run::init_collisions() {
+  if (model_.collisions == Collisions::off) return;
+  const std::size_t n = model_.bodies.size();
+  state_.shapes.reserve(n);
+  for (std::size_t b = 0; b < n; ++b)
+    state_.shapes.push_back(
+        dynamics::collision_shape(result_.bodies[b].mesh, model_.centre_of_mass[b]));
+  state_.placed.resize(n);
+  state_.placed_state.resize(n);
+  state_.placed_valid.assign(n, 0);
+  state_.box_min.assign(n, Vec3::Zero());
+  state_.box_max.assign(n, Vec3::Zero());
+  state_.sweep_order.resize(n);
+  std::iota(state_.sweep_order.begin(), state_.sweep_order.end(), 0u);
+  state_.touching_body.assign(n, 0);
+  if (model_.collisions != Collisions::automatic) return;
+  // A pane's fragments lie in its frame (the pane's edge inside the frame's boxes): `auto`
+  // leaves out every pair of a fragment and an anchored body whose boxes meet at the start,
+  // which would otherwise push the fragment out of the frame with the overlap's depth.
+  std::vector<Vec3> low(n), high(n);
+  for (std::size_t b = 0; b < n; ++b) {
+    const Mat3 r = state_.bodies[b].orientation.toRotationMatrix();
+    low[b] = high[b] = state_.bodies[b].position;
+    for (const Vec3& p : model_.bodies[b].hull_points) {
+      const Vec3 w = state_.bodies[b].position + r * p;
+      low[b] = low[b].cwiseMin(w);
+      high[b] = high[b].cwiseMax(w);
+    }
+  }
+  std::vector<std::uint32_t> order(n);
+  std::iota(order.begin(), order.end(), 0u);
+  std::sort(order.begin(), order.end(), [&](std::uint32_t a, std::uint32_t b) {
+    return low[a].x() != low[b].x() ? low[a].x() < low[b].x() : a < b;
+  });
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::uint32_t a = order[i];
+    for (std::size_t k = i + 1; k < n && low[order[k]].x() <= high[a].x() + kContactMargin_m; ++k) {
+      const std::uint32_t b = order[k];
+      const bool pane_pair = (model_.fragment[a] && state_.motion[b] == Motion::anchored) ||
+                             (model_.fragment[b] && state_.motion[a] == Motion::anchored);
+      if (!pane_pair) continue;
+      if ((low[a].array() > high[b].array() + kContactMargin_m).any() ||
+          (low[b].array() > high[a].array() + kContactMargin_m).any())
+        continue;
+      state_.start_neighbours.insert(contact_key(std::min(a, b), std::max(a, b), 0));
+    }
+  }
+}
+
+void Run::collide(double dt) {
+  if (model_.collisions == Collisions::off) return;
+  const std::size_t n = model_.bodies.size();
+  if (n < 2) return;
+  std::fill(state_.touching_body.begin(), state_.touching_body.end(), 0);
+  state_.next_touching_pairs.clear();
+
+  // Place: awake bodies every step, the others when they have moved since.
+  std::vector<double>& margin = state_.margin;
+  margin.assign(n, kContactMargin_m);
+  bool any_awake = false;
+  for (std::uint32_t b = 0; b < n; ++b) {
+    const dynamics::BodyState& s = state_.bodies[b];
+    const bool awake = state_.motion[b] == Motion::awake;
+    any_awake = any_awake || awake;
+    if (awake) {
+      const double spin = dynamics::angular_velocity(model_.bodies[b], s).norm() *
+                          model_.bodies[b].bounding_radius_m;
+      margin[b] += (s.velocity.norm() + spin) * dt;
+    }
+    if (!awake && state_.placed_valid[b] && s.position == state_.placed_state[b].position &&
+        s.orientation.coeffs() == state_.placed_state[b].orientation.coeffs())
+      continue;
+    const Mat3 r = s.orientation.toRotationMatrix();
+    const auto& pieces = state_.shapes[b].pieces;
+    auto& placed = state_.placed[b];
+    placed.resize(pieces.size());
+    Vec3 low = Vec3::Constant(INFINITY), high = Vec3::Constant(-INFINITY);
+    for (std::size_t p = 0; p < pieces.size(); ++p) {
+      dynamics::place(pieces[p], s.position, r, placed[p]);
+      low = low.cwiseMin(placed[p].min);
+      high = high.cwiseMax(placed[p].max);
+    }
+    state_.box_min[b] = low;
+    state_.box_max[b] = high;
+    state_.placed_state[b] = s;
+    state_.placed_valid[b] = 1;
+  }
+  if (!any_awake) return;
+
+  // Broadphase: sort and sweep along x (insertion sort of last step's order).
+  auto& order = state_.sweep_order;
+  auto low_x = [&](std::uint32_t b) { return state_.box_min[b].x() - margin[b]; };
+  for (std::size_t i = 1; i < order.size(); ++i) {
+    const std::uint32_t body = order[i];
+    const double key = low_x(body);
+    std::size_t j = i;
+    while (j > 0 &&
+           (low_x(order[j - 1]) > key || (low_x(order[j - 1]) == key && order[j - 1] > body))) {
+      order[j] = order[j - 1];
+      --j;
+    }
+    order[j] = body;
+  }
+  auto& pairs = state_.pairs;
+  pairs.clear();
+  for (std::size_t i = 0; i < order.size(); ++i) {
+    const std::uint32_t a = order[i];
+    if (state_.shapes[a].pieces.empty()) continue;
+    const double high_x = state_.box_max[a].x() + margin[a];
+    for (std::size_t k = i + 1; k < order.size() && low_x(order[k]) <= high_x; ++k) {
+      const std::uint32_t b = order[k];
+      if (state_.motion[a] != Motion::awake && state_.motion[b] != Motion::awake) continue;
+      const double grow = margin[a] + margin[b];
+      if ((state_.box_min[a].array() > state_.box_max[b].array() + grow).any() ||
+          (state_.box_min[b].array() > state_.box_max[a].array() + grow).any())
+        continue;
+      pairs.emplace_back(std::min(a, b), std::max(a, b));
+    }
+  }
+  std::sort(pairs.begin(), pairs.end());
+  result_.stats.collision_pairs += pairs.size();
+
+  // Narrowphase. An asleep body met by a moving one wakes up.
+  std::vector<std::int32_t> solver_index(n, -1);
+  std::vector<dynamics::SolverBody> solver(1);  // 0: every static partner
+  std::vector<std::uint32_t> solver_body(1, 0);
+  auto dynamic_index = [&](std::uint32_t b) -> std::uint32_t {
+    if (state_.motion[b] != Motion::awake) return 0;
+    if (solver_index[b] < 0) {
+      const dynamics::BodyModel& body = model_.bodies[b];
+      const dynamics::BodyState& s = state_.bodies[b];
+      dynamics::SolverBody sb;
+      sb.velocity = s.velocity;
+      sb.inverse_mass = body.inverse_mass;
+      if (body.rotates) {
+        const Mat3 r = s.orientation.toRotationMatrix();
+        sb.inverse_inertia = r * body.inverse_inertia_body * r.transpose();
+        sb.omega = sb.inverse_inertia * s.angular_momentum;
+      }
+      solver_index[b] = static_cast<std::int32_t>(solver.size());
+      solver.push_back(sb);
+      solver_body.push_back(b);
+    }
+    return static_cast<std::uint32_t>(solver_index[b]);
+  };
+  auto moving = [&](std::uint32_t b) {
+    return state_.motion[b] == Motion::awake && state_.rest_time_s[b] == 0.0;
+  };
+  const double restitution = model_.ground ? model_.ground->restitution : 0.2;
+  const Vec3 gravity_step = model_.world.gravity_m_s2 * dt;
+  auto& contacts = state_.pair_contacts;
+  auto& contact_held = state_.contact_held;  // per contact: the held partner, or n
+  contacts.clear();
+  contact_held.clear();
+  dynamics::Manifold manifold;
+  for (const auto& [a, b] : pairs) {
+    for (std::uint32_t x : {a, b}) {
+      const std::uint32_t other = x == a ? b : a;
+      if (state_.motion[x] == Motion::asleep && moving(other)) {
+        state_.motion[x] = Motion::awake;
+        state_.rest_time_s[x] = 0.0;
+      }
+    }
+    if (model_.collisions == Collisions::automatic && model_.fragment[a] && model_.fragment[b]) {
+      // Fragments against fragments only with `on`: measured on window.json, their contacts
+      // (prisms of many triangular pieces, whose inner faces give poor normals) spun fragments
+      // up to 250 rad/s and cut the step to 0.25 ms: a 2 s run went from 0.3 s to over 100 s.
+      ++result_.stats.collision_pairs_skipped;
+      continue;
+    }
+    if (state_.start_neighbours.count(contact_key(a, b, 0))) {
+      ++result_.stats.collision_pairs_skipped;  // a fragment and its frame
+      continue;
+    }
+    if (model_.collisions == Collisions::automatic && state_.motion[a] == Motion::awake &&
+        state_.motion[b] == Motion::awake) {
+      // Moving apart faster than 1 cm/s and not pressed together last step: they cannot meet
+      // in this step (fragments of a pane leaving along their cracks, debris flying apart).
+      const Vec3 apart = state_.bodies[b].position - state_.bodies[a].position;
+      const Vec3 closing = state_.bodies[b].velocity - state_.bodies[a].velocity;
+      if (closing.dot(apart) > 0.01 * apart.norm() &&
+          !state_.touching_pairs.count(contact_key(a, b, 0))) {
+        ++result_.stats.collision_pairs_skipped;
+        continue;
+      }
+    }
+    const double pair_margin = margin[a] + margin[b];
+    const auto& pa = state_.placed[a];
+    const auto& pb = state_.placed[b];
+    const std::size_t first = contacts.size();
+    for (std::size_t i = 0; i < pa.size(); ++i)
+      for (std::size_t j = 0; j < pb.size(); ++j) {
+        const std::uint32_t base = static_cast<std::uint32_t>((i * pb.size() + j) << 8);
+        if (!dynamics::collide(pa[i], pb[j], pair_margin, base, manifold)) continue;
+        const std::uint32_t ia = dynamic_index(a), ib = dynamic_index(b);
+        const double mu = std::sqrt(model_.friction[a] * model_.friction[b]);
+        const double gravity_speed =
+            gravity_step.dot(manifold.normal) * ((ib != 0 ? 1.0 : 0.0) - (ia != 0 ? 1.0 : 0.0));
+        for (const dynamics::ContactPoint& p : manifold.points) {
+          dynamics::PairContact c;
+          c.a = ia;
+          c.b = ib;
+          c.point = p.point;
+          c.normal = manifold.normal;
+          c.depth_m = p.depth_m;
+          c.friction = mu;
+          c.restitution = restitution;
+          c.gravity_speed_m_s = gravity_speed;
+          c.key = contact_key(a, b, p.feature);
+          c.arm_a = ia != 0 ? Vec3(p.point - state_.bodies[a].position) : Vec3::Zero();
+          c.arm_b = ib != 0 ? Vec3(p.point - state_.bodies[b].position) : Vec3::Zero();
+          contacts.push_back(c);
+          const bool a_held = state_.motion[a] == Motion::held;
+          const bool b_held = state_.motion[b] == Motion::held;
+          contact_held.push_back(a_held ? a : b_held ? b : static_cast<std::uint32_t>(n));
+          if (p.depth_m > -1e-3) state_.touching_body[a] = state_.touching_body[b] = 1;
+          if (p.depth_m > 1e-4) state_.next_touching_pairs.insert(contact_key(a, b, 0));
+        }
+      }
+    reduce_pair_contacts(contacts, contact_held, first);
+  }
+  if (contacts.empty()) {
+    state_.contact_impulses.clear();
+  } else {
+    // The ground under the bodies in contact joins the same solve (a box under another is
+    // pressed into the ground by it within the step).
+    if (model_.ground) {
+      const double top = model_.ground->height_m + 1e-4;
+      for (std::size_t s = 1; s < solver.size(); ++s) {
+        const std::uint32_t b = solver_body[s];
+        const dynamics::BodyState& st = state_.bodies[b];
+        const Mat3 r = st.orientation.toRotationMatrix();
+        const auto& hull = model_.bodies[b].hull_points;
+        for (std::size_t k = 0; k < hull.size(); ++k) {
+          const Vec3 arm = r * hull[k];
+          const double y = st.position.y() + arm.y();
+          if (y > top) continue;
+          dynamics::PairContact c;
+          c.a = 0;
+          c.b = static_cast<std::uint32_t>(s);
+          c.point = st.position + arm;
+          c.normal = Vec3::UnitY();
+          c.depth_m = model_.ground->height_m - y;
+          c.friction = model_.ground->friction;
+          c.restitution = model_.ground->restitution;
+          c.gravity_speed_m_s = gravity_step.y();
+          c.key = contact_key(kGroundId, b, static_cast<std::uint32_t>(k));
+          c.arm_a = Vec3::Zero();
+          c.arm_b = arm;
+          contacts.push_back(c);
+          contact_held.push_back(static_cast<std::uint32_t>(n));
+        }
+      }
+    }
+    // Bottom up, so a stack's weight is passed down within a sweep.
+    std::vector<std::size_t> by_height(contacts.size());
+    std::iota(by_height.begin(), by_height.end(), std::size_t{0});
+    std::sort(by_height.begin(), by_height.end(), [&](std::size_t x, std::size_t y) {
+      if (contacts[x].point.y() != contacts[y].point.y())
+        return contacts[x].point.y() < contacts[y].point.y();
+      return contacts[x].key < contacts[y].key;
+    });
+    auto& sorted = state_.sorted_contacts;
+    auto& sorted_held = state_.sorted_held;
+    sorted.clear();
+    sorted_held.clear();
+    for (std::size_t i : by_height) {
+      sorted.push_back(contacts[i]);
+      sorted_held.push_back(contact_held[i]);
+    }
+    result_.stats.contact_points += sorted.size();
+    dynamics::PairSolveSettings settings;
+    settings.dt_s = dt;
+    dynamics::solve_pair_contacts(solver, sorted, state_.contact_impulses,
+                                  state_.next_contact_impulses, settings);
+    std::swap(state_.contact_impulses, state_.next_contact_impulses);
+    for (std::size_t s = 1; s < solver.size(); ++s) {
+      const std::uint32_t b = solver_body[s];
+      dynamics::BodyState& st = state_.bodies[b];
+      const dynamics::BodyModel& body = model_.bodies[b];
+      st.velocity = solver[s].velocity;
+      st.position += solver[s].position_shift;
+      if (body.rotates) {
+        const Mat3 r = st.orientation.toRotationMatrix();
+        st.angular_momentum = r * (body.inertia_body * (r.transpose() * solver[s].omega));
+      }
+    }
+    // A held body pushed harder than its hold breaks free.
+    std::vector<double> pushed;
+    for (std::size_t i = 0; i < sorted.size(); ++i) {
+      const std::uint32_t held = sorted_held[i];
+      if (held == n) continue;
+      if (pushed.empty()) pushed.assign(n, 0.0);
+      pushed[held] += sorted[i].normal_impulse;
+    }
+    for (std::size_t b = 0; b < pushed.size(); ++b)
+      if (pushed[b] > model_.hold_force_n[b] * dt && state_.motion[b] == Motion::held)
+        state_.motion[b] = Motion::awake;
+  }
+
+  std::swap(state_.touching_pairs, state_.next_touching_pairs);
+
+  // A held body whose supports have all left falls.
+  for (std::uint32_t b = 0; b < n; ++b) {
+    // (Fragments are held by their frame grip, whatever lies under them.)
+    if (state_.motion[b] != Motion::held || model_.supports[b].empty() || model_.fragment[b])
+      continue;
+    const bool supported =
+        std::any_of(model_.supports[b].begin(), model_.supports[b].end(), [&](std::uint32_t s) {
+          return state_.motion[s] == Motion::held || state_.motion[s] == Motion::anchored;
+        });
+    if (!supported) state_.motion[b] = Motion::awake;
+  }
+}
+
+}  // namespace brisance::engine

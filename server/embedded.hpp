@@ -15,6 +15,6 @@ struct EmbeddedFile {
 std::span<const EmbeddedFile> embedded_migrations();  // server/migrations/*.sql, sorted by name
 // server/migrations/postgres/*.sql, sorted by name
 std::span<const EmbeddedFile> embedded_pg_migrations();
-std::span<const EmbeddedFile> embedded_api();         // api/openapi.yaml
+std::span<const EmbeddedFile> embedded_api();  // api/openapi.yaml
 
 }  // namespace brisance

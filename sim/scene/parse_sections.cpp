@@ -138,11 +138,11 @@ SimulationSpec parse_simulation(const json& value, const std::string& pointer, c
                                 Errors& errors) {
   SimulationSpec simulation;
   if (!expect_object(value, pointer, "'simulation'", errors)) return simulation;
-  const Fields fields(value, pointer, errors, "'simulation'",
-                      {"duration", "frame_rate", "time_step", "tolerance", "seed", "clearing",
-                       "occlusion", "shielding", "integrator", "pulse", "max_panel_area",
-                       "linear_damping", "angular_damping", "rotation_factor", "sleep",
-                       "collisions"});
+  const Fields fields(
+      value, pointer, errors, "'simulation'",
+      {"duration", "frame_rate", "time_step", "tolerance", "seed", "clearing", "occlusion",
+       "shielding", "integrator", "pulse", "max_panel_area", "linear_damping", "angular_damping",
+       "rotation_factor", "sleep", "collisions"});
   simulation.duration_s =
       fields.number("duration", simulation.duration_s,
                     range(0.0, true, limits.max_duration_s, false, "s", "max_duration_s"));

@@ -131,6 +131,27 @@ TEST(ExampleScenes, ShieldedDistanceCloseBehindTheWallIsSafest) {
             2.0 * open.final_state[2].linear_velocity_m_s[2]);
 }
 
+TEST(ExampleScenes, EachChargeHasItsOwnShadow) {
+  // A second charge beyond the far block: the wall shields the blocks from the first charge
+  // only. The second charge's wave reaches both blocks in the open and pushes them back
+  // towards the wall.
+  scene::Scene s = load("shielded_distance.json");
+  scene::ChargeSpec behind = s.charges[0];
+  behind.position = Eigen::Vector3d(0.0, 0.0, 12.0);
+  behind.mass_kg = 1.0;
+  s.charges.push_back(behind);
+  const Result r = simulate(s).result;
+  ASSERT_EQ(r.shielding.size(), 2u);
+  EXPECT_EQ(r.shielding[0].charge, 0u);
+  std::vector<std::uint32_t> shielded;
+  for (const ShieldedBody& body : r.shielding[0].bodies)
+    shielded.push_back(body.body);
+  EXPECT_EQ(shielded, (std::vector<std::uint32_t>{1, 2}));  // the near and the far block
+  EXPECT_TRUE(r.shielding[1].bodies.empty());               // nothing between them and it
+  // The near block, wholly shielded from the first charge, moves only under the second.
+  EXPECT_LT(r.final_state[1].linear_velocity_m_s[2], 0.0);
+}
+
 TEST(ExampleScenes, ShieldingOffIsTheSceneWithoutTheOccluder) {
   scene::Scene s = load("shielded_blocks.json");
   s.simulation.occlusion = scene::OcclusionMode::off;

@@ -13,6 +13,7 @@
 #include <poll.h>
 
 #include "server/embedded.hpp"
+#include "server/group_commit.hpp"
 #include "server/pg.hpp"
 
 namespace brisance::server {
@@ -134,32 +135,10 @@ class PgStorage final : public Storage {
     if (listener_.joinable()) listener_.join();
   }
 
-  // Group commit, as on SQLite: concurrent submissions share one transaction, so one commit (one
-  // WAL flush with synchronous_commit on) serves many jobs. The first caller to find no batch
-  // running leads it; the others wait for its commit. Every caller returns only after its own job
-  // is committed.
+  // Group commit (server/group_commit.hpp): concurrent submissions share one transaction.
   CreateResult create_job(const NewJob& job) override {
-    PendingCreate me{&job, {}, nullptr, false};
-    std::unique_lock lock(group_mutex_);
-    group_queue_.push_back(&me);
-    while (!me.done) {
-      if (group_leader_) {
-        group_done_.wait(lock);
-        continue;
-      }
-      group_leader_ = true;
-      std::vector<PendingCreate*> batch;
-      batch.swap(group_queue_);
-      lock.unlock();
-      run_batch(batch);
-      lock.lock();
-      for (PendingCreate* p : batch)
-        p->done = true;
-      group_leader_ = false;
-      group_done_.notify_all();
-    }
-    if (me.error) std::rethrow_exception(me.error);
-    return std::move(me.result);
+    return group_.submit(job,
+                         [this](const std::vector<PendingCreate*>& batch) { run_batch(batch); });
   }
 
   std::optional<JobRecord> get_job(std::string_view id) override {
@@ -534,13 +513,6 @@ class PgStorage final : public Storage {
   }
 
  private:
-  struct PendingCreate {
-    const NewJob* job;
-    CreateResult result;
-    std::exception_ptr error;
-    bool done;
-  };
-
   void run_batch(const std::vector<PendingCreate*>& batch) {
     if (batch.size() > 1) {
       try {
@@ -801,10 +773,7 @@ class PgStorage final : public Storage {
   std::chrono::milliseconds backoff_;
   std::string last_error_;
 
-  std::mutex group_mutex_;
-  std::condition_variable group_done_;
-  std::vector<PendingCreate*> group_queue_;
-  bool group_leader_ = false;
+  GroupCommit group_;
 
   std::mutex dispatch_mutex_;  // held while the callbacks run, and while they are replaced
   std::mutex listen_mutex_;

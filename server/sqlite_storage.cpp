@@ -12,6 +12,7 @@
 #include <sqlite3.h>
 
 #include "server/embedded.hpp"
+#include "server/group_commit.hpp"
 
 namespace brisance::server {
 
@@ -256,32 +257,10 @@ class SqliteStorage final : public Storage {
     migrate(*lease);
   }
 
-  // Group commit: concurrent submissions share one transaction. The first caller to find no
-  // batch running becomes its leader and commits everything queued so far; the others wait for
-  // that commit. Every caller returns only after its job is committed, so durability per job is
-  // unchanged while one commit (and one fsync with synchronous=full) serves many jobs.
+  // Group commit (server/group_commit.hpp): concurrent submissions share one transaction.
   CreateResult create_job(const NewJob& job) override {
-    PendingCreate me{&job, {}, nullptr, false};
-    std::unique_lock lock(group_mutex_);
-    group_queue_.push_back(&me);
-    while (!me.done) {
-      if (group_leader_) {
-        group_done_.wait(lock);
-        continue;
-      }
-      group_leader_ = true;
-      std::vector<PendingCreate*> batch;
-      batch.swap(group_queue_);
-      lock.unlock();
-      run_batch(batch);
-      lock.lock();
-      for (PendingCreate* p : batch)
-        p->done = true;
-      group_leader_ = false;
-      group_done_.notify_all();
-    }
-    if (me.error) std::rethrow_exception(me.error);
-    return std::move(me.result);
+    return group_.submit(job,
+                         [this](const std::vector<PendingCreate*>& batch) { run_batch(batch); });
   }
 
   std::optional<JobRecord> get_job(std::string_view id) override {
@@ -700,13 +679,6 @@ class SqliteStorage final : public Storage {
     return Lease(*this, std::make_unique<Connection>(options_.file, options_));
   }
 
-  struct PendingCreate {
-    const NewJob* job;
-    CreateResult result;
-    std::exception_ptr error;
-    bool done;
-  };
-
   void run_batch(const std::vector<PendingCreate*>& batch) {
     try {
       auto c = acquire();
@@ -815,10 +787,7 @@ class SqliteStorage final : public Storage {
   SqliteOptions options_;
   std::mutex write_mutex_;
   std::mutex pool_mutex_;
-  std::mutex group_mutex_;
-  std::condition_variable group_done_;
-  std::vector<PendingCreate*> group_queue_;
-  bool group_leader_ = false;
+  GroupCommit group_;
   std::vector<std::unique_ptr<Connection>> pool_;
 };
 

@@ -15,6 +15,26 @@ struct Plane {
   double offset;
 };
 
+// Records an edge direction for the separating-axis test, unless a parallel one is known.
+void add_edge_direction(ConvexPiece& piece, const Vec3& direction) {
+  const bool known =
+      std::any_of(piece.edge_directions.begin(), piece.edge_directions.end(),
+                  [&](const Vec3& e) { return std::abs(e.dot(direction)) > 1.0 - 1e-9; });
+  if (!known) piece.edge_directions.push_back(direction);
+}
+
+// The piece's bounding sphere: centred on its vertices' box, out to the farthest vertex.
+void set_bounding_sphere(ConvexPiece& piece) {
+  Vec3 low = piece.vertices.front(), high = low;
+  for (const Vec3& v : piece.vertices) {
+    low = low.cwiseMin(v);
+    high = high.cwiseMax(v);
+  }
+  piece.centre = 0.5 * (low + high);
+  for (const Vec3& v : piece.vertices)
+    piece.radius_m = std::max(piece.radius_m, (v - piece.centre).norm());
+}
+
 // The faces of the convex hull of `points` by brute force: every plane through three points
 // with all points on one side. O(n^4) for n points, which is why only pieces of at most
 // kMaxHullVertices points come here (a box: 56 triples).
@@ -76,19 +96,9 @@ ConvexPiece piece_from(const std::vector<Vec3>& points, const std::vector<Plane>
       if (shared < 2) continue;
       piece.edges.push_back({static_cast<std::uint8_t>(i), static_cast<std::uint8_t>(j)});
       const Vec3 direction = (piece.vertices[j] - piece.vertices[i]).normalized();
-      const bool known =
-          std::any_of(piece.edge_directions.begin(), piece.edge_directions.end(),
-                      [&](const Vec3& e) { return std::abs(e.dot(direction)) > 1.0 - 1e-9; });
-      if (!known) piece.edge_directions.push_back(direction);
+      add_edge_direction(piece, direction);
     }
-  Vec3 low = piece.vertices.front(), high = low;
-  for (const Vec3& v : piece.vertices) {
-    low = low.cwiseMin(v);
-    high = high.cwiseMax(v);
-  }
-  piece.centre = 0.5 * (low + high);
-  for (const Vec3& v : piece.vertices)
-    piece.radius_m = std::max(piece.radius_m, (v - piece.centre).norm());
+  set_bounding_sphere(piece);
   return piece;
 }
 
@@ -184,19 +194,9 @@ bool prism_piece(const geometry::TriangleMesh& mesh, const std::vector<Vec3>& po
     piece.edges.push_back({static_cast<std::uint8_t>(h + i), static_cast<std::uint8_t>(h + j)});
     piece.edges.push_back({static_cast<std::uint8_t>(i), static_cast<std::uint8_t>(h + i)});
     const Vec3 direction = along.normalized();
-    const bool known =
-        std::any_of(piece.edge_directions.begin(), piece.edge_directions.end(),
-                    [&](const Vec3& e) { return std::abs(e.dot(direction)) > 1.0 - 1e-9; });
-    if (!known) piece.edge_directions.push_back(direction);
+    add_edge_direction(piece, direction);
   }
-  Vec3 low = piece.vertices.front(), high = low;
-  for (const Vec3& v : piece.vertices) {
-    low = low.cwiseMin(v);
-    high = high.cwiseMax(v);
-  }
-  piece.centre = 0.5 * (low + high);
-  for (const Vec3& v : piece.vertices)
-    piece.radius_m = std::max(piece.radius_m, (v - piece.centre).norm());
+  set_bounding_sphere(piece);
   shape.pieces.push_back(std::move(piece));
   return true;
 }

@@ -9,6 +9,7 @@
 
 #include "server/sha256.hpp"
 #include "sim/io/gltf.hpp"
+#include "sim/scene/reader.hpp"
 #include "sim/io/result_codec.hpp"
 
 namespace brisance::server {
@@ -41,6 +42,74 @@ std::string new_job_id() {
   for (int i = 0; i < 8; ++i)
     id.push_back(kHex[(b >> (4 * i)) & 0xf]);
   return id;
+}
+
+namespace {
+
+// Text a person typed, shown on a page: no control characters (a NUL or an escape sequence
+// would corrupt logs and terminals).
+bool printable(std::string_view text) {
+  return std::none_of(text.begin(), text.end(),
+                      [](char c) { return static_cast<unsigned char>(c) < 0x20 || c == 0x7f; });
+}
+
+// UTF-8 characters, for limits a person can count.
+std::size_t characters(std::string_view text) {
+  return static_cast<std::size_t>(std::count_if(text.begin(), text.end(), [](char c) {
+    return (static_cast<unsigned char>(c) & 0xc0) != 0x80;
+  }));
+}
+
+}  // namespace
+
+bool valid_label_key(std::string_view key) {
+  if (key.empty() || key.size() > kMaxLabelKey) return false;
+  const auto allowed = [](char c) {
+    return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_' ||
+           c == '.' || c == '-' || c == '/';
+  };
+  return std::all_of(key.begin(), key.end(), allowed);
+}
+
+std::optional<std::string> check_job_name(const nlohmann::json& name) {
+  if (!name.is_string()) return "name must be a string";
+  const auto& text = name.get_ref<const std::string&>();
+  if (characters(text) > kMaxJobName)
+    return "name must be at most " + std::to_string(kMaxJobName) + " characters";
+  if (!printable(text)) return "name must not contain control characters";
+  return std::nullopt;
+}
+
+void check_job_labels(const nlohmann::json& labels,
+                      const std::function<void(std::string, std::string)>& invalid) {
+  if (!labels.is_object()) {
+    invalid("/labels", "labels must be an object of strings, e.g. {\"shot\": \"sq010\"}");
+    return;
+  }
+  if (labels.size() > kMaxLabels) {
+    invalid("/labels", "at most " + std::to_string(kMaxLabels) + " labels, not " +
+                           std::to_string(labels.size()));
+  }
+  for (const auto& [key, value] : labels.items()) {
+    const std::string pointer = "/labels/" + scene::escape_token(key);
+    if (!valid_label_key(key)) {
+      invalid(pointer, "label key '" + key + "' must be 1 to " + std::to_string(kMaxLabelKey) +
+                           " letters, digits or '_', '.', '-', '/'");
+    }
+    if (!value.is_string()) {
+      invalid(pointer, "label values must be strings");
+      continue;
+    }
+    const auto& text = value.get_ref<const std::string&>();
+    if (characters(text) > kMaxLabelValue) {
+      invalid(pointer,
+              "label values must be at most " + std::to_string(kMaxLabelValue) + " characters");
+    } else if (!printable(text) || text.find(',') != std::string::npos) {
+      invalid(pointer,
+              "label values must not contain control characters or ',' (it separates "
+              "selectors in ?label=)");
+    }
+  }
 }
 
 std::uint64_t ChangeNotifier::subscribe(const std::string& job_id, Callback callback) {
@@ -119,6 +188,8 @@ SubmitOutcome JobService::submit(const SubmitRequest& request) {
     outcome.errors.push_back({std::move(pointer), std::move(message)});
   };
   int priority = 0;
+  std::string name;
+  json labels = json::object();
   const json* scene_json = nullptr;
   if (!document.is_object()) {
     invalid("", "the body must be an object {\"scene\": {...}, \"priority\": 0}");
@@ -133,8 +204,21 @@ SubmitOutcome JobService::submit(const SubmitRequest& request) {
         } else {
           priority = value.get<int>();
         }
+      } else if (key == "name") {
+        if (auto problem = check_job_name(value)) {
+          invalid("/name", std::move(*problem));
+        } else {
+          name = value.get<std::string>();
+        }
+      } else if (key == "labels") {
+        const std::size_t before = outcome.errors.size();
+        check_job_labels(value, invalid);
+        if (outcome.errors.size() == before) labels = value;
       } else {
-        invalid("/" + key, "unknown field '" + key + "': a job has only 'scene' and 'priority'");
+        invalid("/" + scene::escape_token(key),
+                "unknown field '" + key + "'" +
+                    (key == "label" ? " (did you mean 'labels'?)" : "") +
+                    ": a job has only 'scene', 'priority', 'name' and 'labels'");
       }
     }
     if (!scene_json) invalid("/scene", "missing 'scene': the scene to simulate");
@@ -152,6 +236,8 @@ SubmitOutcome JobService::submit(const SubmitRequest& request) {
   NewJob job;
   job.scene_json = scene_json->dump();
   job.priority = priority;
+  job.name = std::move(name);
+  job.labels_json = labels.dump();
   job.idempotency_key = std::string(request.idempotency_key);
   job.owner = std::string(request.owner);
   if (!job.idempotency_key.empty()) job.request_hash = sha256_hex(request.body);

@@ -15,6 +15,8 @@
 #include <string_view>
 #include <vector>
 
+#include <nlohmann/json_fwd.hpp>
+
 #include "server/storage.hpp"
 #include "sim/engine/result.hpp"
 #include "sim/io/frames.hpp"
@@ -55,6 +57,19 @@ struct ResultLayout {
   std::size_t body_count() const { return initial_poses.size(); }
 };
 
+// Limits on what a job carries beside its scene (docs/service.md "Names and labels").
+inline constexpr std::size_t kMaxJobName = 200;  // characters
+inline constexpr std::size_t kMaxLabels = 32;
+inline constexpr std::size_t kMaxLabelKey = 63;     // letters, digits, '_', '.', '-', '/'
+inline constexpr std::size_t kMaxLabelValue = 200;  // characters, no ',' or control characters
+
+bool valid_label_key(std::string_view key);
+// nullopt when `name` is a valid job name, else why not.
+std::optional<std::string> check_job_name(const nlohmann::json& name);
+// Reports each problem of `labels` with its JSON pointer in the request body.
+void check_job_labels(const nlohmann::json& labels,
+                      const std::function<void(std::string, std::string)>& invalid);
+
 struct SubmitRequest {
   std::string_view body;             // {"scene": {...}, "priority": N}
   std::string_view idempotency_key;  // empty: none
@@ -78,9 +93,8 @@ class JobService {
 
   SubmitOutcome submit(const SubmitRequest& request);
   std::optional<JobRecord> job(std::string_view id) { return storage_.get_job(id); }
-  JobPage list(std::optional<JobStatus> status, std::int64_t before_seq, int limit,
-               std::optional<std::string_view> owner) {
-    return storage_.list_jobs(status, before_seq, limit, owner);
+  JobPage list(const JobFilter& filter, std::int64_t before_seq, int limit) {
+    return storage_.list_jobs(filter, before_seq, limit);
   }
   CancelOutcome cancel(const std::string& id);
   bool remove(const std::string& id);

@@ -37,8 +37,8 @@ constexpr std::size_t kFramesPerInsert = 1000;
 
 #define JOB_COLUMNS                                                                        \
   "id, seq, status, priority, progress, version, attempts, cancel_requested, created_ms, " \
-  "updated_ms, started_ms, finished_ms, error_type, error, stats, owner"
-constexpr int kJobColumnCount = 16;
+  "updated_ms, started_ms, finished_ms, error_type, error, stats, owner, name, labels"
+constexpr int kJobColumnCount = 18;
 
 // Whether PostgreSQL can hold `text` in a text column: valid UTF-8 (the database encoding) and no
 // NUL (libpq passes text parameters as C strings). SQLite stores any bytes, so a client's bytes
@@ -113,6 +113,8 @@ JobRecord read_job(const pg::Result& r, int row) {
   j.error = std::string(r.text(row, 13));
   j.stats_json = std::string(r.text(row, 14));
   j.owner = std::string(r.text(row, 15));
+  j.name = std::string(r.text(row, 16));
+  j.labels_json = std::string(r.text(row, 17));
   return j;
 }
 
@@ -151,19 +153,25 @@ class PgStorage final : public Storage {
     });
   }
 
-  JobPage list_jobs(std::optional<JobStatus> status, std::int64_t before_seq, int limit,
-                    std::optional<std::string_view> owner) override {
-    if (owner && !storable(*owner)) return {};
+  JobPage list_jobs(const JobFilter& filter, std::int64_t before_seq, int limit) override {
+    if (filter.owner && !storable(*filter.owner)) return {};
     pg::Params params;
+    const auto next = [&](std::string_view value) {
+      params.add(value);
+      return "$" + std::to_string(params.size());
+    };
     params.add(before_seq > 0 ? before_seq : INT64_MAX);
     std::string sql = "SELECT " JOB_COLUMNS " FROM jobs WHERE seq < $1";
-    if (owner) {
-      params.add(*owner);
-      sql += " AND owner = $" + std::to_string(params.size());
+    if (filter.owner) sql += " AND owner = " + next(*filter.owner);
+    if (filter.status) sql += " AND status = " + next(to_string(*filter.status));
+    for (const LabelSelector& label : filter.labels) {
+      if (label.value && !storable(*label.value)) return {};
+      sql += label.value ? " AND labels::jsonb ->> " + next(label.key) + " = " + next(*label.value)
+                         : " AND labels::jsonb ? " + next(label.key);
     }
-    if (status) {
-      params.add(to_string(*status));
-      sql += " AND status = $" + std::to_string(params.size());
+    if (!filter.name_contains.empty()) {
+      if (!storable(filter.name_contains)) return {};
+      sql += " AND strpos(lower(name), lower(" + next(filter.name_contains) + ")) > 0";
     }
     params.add(limit + 1);
     sql += " ORDER BY seq DESC LIMIT $" + std::to_string(params.size());
@@ -569,13 +577,13 @@ class PgStorage final : public Storage {
     } else {
       params.add(scoped_key).add(job.request_hash);
     }
-    params.add(job.owner);
+    params.add(job.owner).add(job.name).add(job.labels_json);
     // Another node may insert the same key between the look-up and here: ON CONFLICT waits
     // for its commit and inserts nothing, and the look-up then finds that job.
     const pg::Result r = c.exec(
         "WITH inserted AS (INSERT INTO jobs (id, status, priority, scene, created_ms, "
-        "updated_ms, idempotency_key, request_hash, owner) "
-        "VALUES ($1, 'queued', $2, $3, $4, $4, $5, $6, $7) "
+        "updated_ms, idempotency_key, request_hash, owner, name, labels) "
+        "VALUES ($1, 'queued', $2, $3, $4, $4, $5, $6, $7, $8, $9) "
         "ON CONFLICT (idempotency_key) DO NOTHING RETURNING seq) "
         "SELECT seq, pg_notify('brisance_queue', '') FROM inserted",
         params);
@@ -590,6 +598,8 @@ class PgStorage final : public Storage {
     created.created_ms = job.now_ms;
     created.updated_ms = job.now_ms;
     created.owner = job.owner;
+    created.name = job.name;
+    created.labels_json = job.labels_json;
     return {CreateOutcome::created, std::move(created)};
   }
 

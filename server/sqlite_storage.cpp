@@ -169,9 +169,10 @@ class Connection {
     }
   }
 
-  // Prepared once per connection; the SQL text's address is the cache key.
+  // Prepared once per connection, keyed by the SQL text (a list query builds its text from the
+  // filter's shape, a bounded set).
   Statement prepare(const char* sql) {
-    auto it = cache_.find(sql);
+    auto it = cache_.find(std::string_view(sql));
     if (it == cache_.end()) {
       sqlite3_stmt* stmt = nullptr;
       if (sqlite3_prepare_v3(db_, sql, -1, SQLITE_PREPARE_PERSISTENT, &stmt, nullptr) !=
@@ -188,7 +189,13 @@ class Connection {
 
  private:
   sqlite3* db_ = nullptr;
-  std::unordered_map<const char*, sqlite3_stmt*> cache_;
+  struct TextHash {
+    using is_transparent = void;
+    std::size_t operator()(std::string_view text) const {
+      return std::hash<std::string_view>()(text);
+    }
+  };
+  std::unordered_map<std::string, sqlite3_stmt*, TextHash, std::equal_to<>> cache_;
 };
 
 // A transaction that rolls back unless committed.
@@ -235,12 +242,16 @@ JobRecord read_job(const Statement& s) {
   j.error = s.text(13);
   j.stats_json = s.text(14);
   j.owner = s.text(15);
+  j.name = s.text(16);
+  j.labels_json = s.text(17);
   return j;
 }
 
 #define JOB_COLUMNS                                                                        \
   "id, seq, status, priority, progress, version, attempts, cancel_requested, created_ms, " \
-  "updated_ms, started_ms, finished_ms, error_type, error, stats, owner"
+  "updated_ms, started_ms, finished_ms, error_type, error, stats, owner, name, labels"
+
+constexpr int kJobColumnCount = 18;
 
 class SqliteStorage final : public Storage {
  public:
@@ -268,37 +279,39 @@ class SqliteStorage final : public Storage {
     return read_by_id(*c, id);
   }
 
-  JobPage list_jobs(std::optional<JobStatus> status, std::int64_t before_seq, int limit,
-                    std::optional<std::string_view> owner) override {
+  JobPage list_jobs(const JobFilter& filter, std::int64_t before_seq, int limit) override {
     auto c = acquire();
-    const std::int64_t before = before_seq > 0 ? before_seq : INT64_MAX;
-    JobPage page;
-    auto read_rows = [&](Statement& s) {
-      while (s.step())
-        page.jobs.push_back(read_job(s));
-    };
-    if (status && owner) {
-      auto s = c->prepare(
-          "SELECT " JOB_COLUMNS
-          " FROM jobs WHERE owner = ? AND status = ? AND seq < ? ORDER BY seq DESC LIMIT ?");
-      s.bind(1, *owner).bind(2, to_string(*status)).bind(3, before).bind(4, limit + 1);
-      read_rows(s);
-    } else if (owner) {
-      auto s = c->prepare("SELECT " JOB_COLUMNS
-                          " FROM jobs WHERE owner = ? AND seq < ? ORDER BY seq DESC LIMIT ?");
-      s.bind(1, *owner).bind(2, before).bind(3, limit + 1);
-      read_rows(s);
-    } else if (status) {
-      auto s = c->prepare("SELECT " JOB_COLUMNS
-                          " FROM jobs WHERE status = ? AND seq < ? ORDER BY seq DESC LIMIT ?");
-      s.bind(1, to_string(*status)).bind(2, before).bind(3, limit + 1);
-      read_rows(s);
-    } else {
-      auto s =
-          c->prepare("SELECT " JOB_COLUMNS " FROM jobs WHERE seq < ? ORDER BY seq DESC LIMIT ?");
-      s.bind(1, before).bind(2, limit + 1);
-      read_rows(s);
+    // The owner's jobs use the (owner, seq) index, the others the primary key; labels and names
+    // are checked on the rows walked in seq order.
+    std::string sql = "SELECT " JOB_COLUMNS " FROM jobs WHERE seq < ?";
+    if (filter.owner) sql += " AND owner = ?";
+    if (filter.status) sql += " AND status = ?";
+    // One text for either kind of selector, so the statements cached stay few.
+    for (std::size_t i = 0; i < filter.labels.size(); ++i)
+      sql += " AND json_type(labels, ?) IS NOT NULL AND (? IS NULL OR json_extract(labels, ?) = ?)";
+    if (!filter.name_contains.empty()) sql += " AND instr(lower(name), lower(?)) > 0";
+    sql += " ORDER BY seq DESC LIMIT ?";
+    auto s = c->prepare(sql.c_str());
+    int n = 0;
+    s.bind(++n, before_seq > 0 ? before_seq : INT64_MAX);
+    if (filter.owner) s.bind(++n, *filter.owner);
+    if (filter.status) s.bind(++n, to_string(*filter.status));
+    for (const LabelSelector& label : filter.labels) {
+      const std::string path = "$.\"" + label.key + "\"";
+      for (int twice = 0; twice < 2; ++twice) {
+        s.bind(++n, path);
+        if (label.value) {
+          s.bind(++n, *label.value);
+        } else {
+          s.bind_null(++n);
+        }
+      }
     }
+    if (!filter.name_contains.empty()) s.bind(++n, filter.name_contains);
+    s.bind(++n, limit + 1);
+    JobPage page;
+    while (s.step())
+      page.jobs.push_back(read_job(s));
     if (static_cast<int>(page.jobs.size()) > limit) {
       page.jobs.pop_back();
       page.cursor = page.jobs.back().seq;
@@ -367,7 +380,7 @@ class SqliteStorage final : public Storage {
       s.bind(1, id);
       s.step();
       claimed.job = read_job(s);
-      claimed.scene_json = s.text(16);
+      claimed.scene_json = s.text(kJobColumnCount);
     }
     tx.commit();
     return claimed;
@@ -711,14 +724,16 @@ class SqliteStorage final : public Storage {
       s.bind(1, scoped_key);
       if (s.step()) {
         CreateResult existing{CreateOutcome::existing, read_job(s)};
-        if (s.text(16) != job.request_hash) existing.outcome = CreateOutcome::key_conflict;
+        if (s.text(kJobColumnCount) != job.request_hash)
+          existing.outcome = CreateOutcome::key_conflict;
         return existing;
       }
     }
     if (!job.create_if_missing) return {CreateOutcome::not_created, {}};
     auto s = c.prepare(
         "INSERT INTO jobs (id, status, priority, scene, created_ms, updated_ms, "
-        "idempotency_key, request_hash, owner) VALUES (?, 'queued', ?, ?, ?, ?, ?, ?, ?)");
+        "idempotency_key, request_hash, owner, name, labels) "
+        "VALUES (?, 'queued', ?, ?, ?, ?, ?, ?, ?, ?, ?)");
     s.bind(1, job.id).bind(2, job.priority).bind(3, job.scene_json);
     s.bind(4, job.now_ms).bind(5, job.now_ms);
     if (job.idempotency_key.empty()) {
@@ -726,7 +741,7 @@ class SqliteStorage final : public Storage {
     } else {
       s.bind(6, scoped_key).bind(7, job.request_hash);
     }
-    s.bind(8, job.owner);
+    s.bind(8, job.owner).bind(9, job.name).bind(10, job.labels_json);
     s.run();
     // The row as inserted, without reading it back.
     JobRecord created;
@@ -736,6 +751,8 @@ class SqliteStorage final : public Storage {
     created.created_ms = job.now_ms;
     created.updated_ms = job.now_ms;
     created.owner = job.owner;
+    created.name = job.name;
+    created.labels_json = job.labels_json;
     return {CreateOutcome::created, std::move(created)};
   }
 

@@ -46,19 +46,23 @@ struct JobRecord {
   std::int64_t updated_ms = 0;
   std::optional<std::int64_t> started_ms;
   std::optional<std::int64_t> finished_ms;
-  std::string error_type;  // stable code, empty unless failed
-  std::string error;       // message for the client, empty unless failed
-  std::string stats_json;  // the result's `stats` object once succeeded, else empty
-  std::string owner;       // the API key that submitted it; empty when keys are off
+  std::string error_type;          // stable code, empty unless failed
+  std::string error;               // message for the client, empty unless failed
+  std::string stats_json;          // the result's `stats` object once succeeded, else empty
+  std::string owner;               // the API key that submitted it; empty when keys are off
+  std::string name;                // given at submission; empty when none
+  std::string labels_json = "{}";  // given at submission: a flat object of strings, compact
 };
 
 struct NewJob {
   std::string id;
   std::string scene_json;  // validated scene, as compact JSON
   int priority = 0;
-  std::string owner;            // the submitting API key's name; empty when keys are off
-  std::string idempotency_key;  // empty: none; scoped to the owner
-  std::string request_hash;     // hash of the request body, for the idempotency check
+  std::string owner;               // the submitting API key's name; empty when keys are off
+  std::string name;                // free text, validated by the service
+  std::string labels_json = "{}";  // a flat object of strings, compact, validated by the service
+  std::string idempotency_key;     // empty: none; scoped to the owner
+  std::string request_hash;        // hash of the request body, for the idempotency check
   std::int64_t now_ms = 0;
   bool create_if_missing = true;  // false: only look the idempotency key up (queue full)
 };
@@ -67,6 +71,21 @@ enum class CreateOutcome { created, existing, key_conflict, not_created };
 struct CreateResult {
   CreateOutcome outcome = CreateOutcome::created;
   JobRecord job;  // the new job, or the one the idempotency key already names
+};
+
+// A label selector of `GET /v1/jobs?label=`: the key is present (no value) or has that value.
+// Keys are letters, digits and "_.-/" only (the service checks), so stores may quote them.
+struct LabelSelector {
+  std::string key;
+  std::optional<std::string> value;
+};
+
+// What a job list shows: every given condition holds.
+struct JobFilter {
+  std::optional<JobStatus> status;
+  std::optional<std::string> owner;  // only this API key's jobs
+  std::vector<LabelSelector> labels;
+  std::string name_contains;  // a substring of the name, ASCII case ignored; empty: any
 };
 
 struct JobPage {
@@ -123,9 +142,8 @@ class Storage {
   // created from a different request body).
   virtual CreateResult create_job(const NewJob& job) = 0;
   virtual std::optional<JobRecord> get_job(std::string_view id) = 0;
-  // Newest first; `before_seq` 0 starts at the newest; only `owner`'s jobs when given.
-  virtual JobPage list_jobs(std::optional<JobStatus> status, std::int64_t before_seq, int limit,
-                            std::optional<std::string_view> owner) = 0;
+  // Newest first; `before_seq` 0 starts at the newest.
+  virtual JobPage list_jobs(const JobFilter& filter, std::int64_t before_seq, int limit) = 0;
   virtual std::int64_t count_queued() = 0;
   virtual QueueCounts queue_counts(std::int64_t now_ms) = 0;
 

@@ -1,5 +1,9 @@
 // server/routes/jobs: the job resource — POST and GET /v1/jobs, GET (with long-poll) and DELETE
 // /v1/jobs/{id}, POST /v1/jobs/{id}/cancel and GET /v1/jobs/{id}/scene.
+#include <algorithm>
+
+#include <boost/url/encode.hpp>
+#include <boost/url/rfc/unreserved_chars.hpp>
 #include <nlohmann/json.hpp>
 
 #include "server/log.hpp"
@@ -26,7 +30,8 @@ std::string job_json(const JobRecord& job) {
   };
   const std::string self = job_path(job.id);
   std::string out;
-  out.reserve(640 + job.stats_json.size() + job.error.size());
+  out.reserve(640 + job.stats_json.size() + job.error.size() + job.name.size() +
+              job.labels_json.size());
   out += "{\"attempts\":" + std::to_string(job.attempts);
   out += ",\"cancel_requested\":";
   out += job.cancel_requested ? "true" : "false";
@@ -40,12 +45,14 @@ std::string job_json(const JobRecord& job) {
   }
   out += ",\"finished_at\":" + time_or_null(job.finished_ms);
   out += ",\"id\":\"" + job.id + "\"";
+  out += ",\"labels\":" + job.labels_json;
   out += ",\"links\":{\"cancel\":\"" + self + "/cancel\"";
   if (job.status == JobStatus::succeeded) {
     out += ",\"frames\":\"" + self + "/frames\",\"glb\":\"" + self + "/result.glb\",\"meshes\":\"" +
            self + "/meshes\",\"result\":\"" + self + "/result\"";
   }
   out += ",\"scene\":\"" + self + "/scene\",\"self\":\"" + self + "\"}";
+  out += ",\"name\":" + json(job.name).dump(-1, ' ', false, json::error_handler_t::replace);
   out += ",\"priority\":" + std::to_string(job.priority);
   out += ",\"progress\":" + json(job.progress).dump();
   out += ",\"started_at\":" + time_or_null(job.started_ms);
@@ -121,18 +128,66 @@ HttpResponse submit_job(const Context& c) {
   return problem(500, "internal-error", "Internal error", "unknown submission outcome").response();
 }
 
+namespace {
+
+constexpr std::size_t kMaxLabelSelectors = 8;
+
+// `?label=shot=sq010,artist` — comma-separated selectors, each a key (present) or key=value.
+std::vector<LabelSelector> parse_label_selectors(std::string_view text) {
+  std::vector<LabelSelector> selectors;
+  std::size_t begin = 0;
+  while (begin <= text.size()) {
+    const std::size_t comma = std::min(text.find(',', begin), text.size());
+    const std::string_view item = text.substr(begin, comma - begin);
+    LabelSelector selector;
+    const std::size_t equals = item.find('=');
+    selector.key = std::string(item.substr(0, equals));
+    if (equals != std::string_view::npos) selector.value = std::string(item.substr(equals + 1));
+    if (!valid_label_key(selector.key)) {
+      throw BadParameter{"label", "'label' is a comma-separated list of KEY or KEY=VALUE; '" +
+                                      std::string(item) +
+                                      "' has no valid key (letters, digits, '_', "
+                                      "'.', '-', '/')"};
+    }
+    selectors.push_back(std::move(selector));
+    if (selectors.size() > kMaxLabelSelectors) {
+      throw BadParameter{
+          "label", "'label' takes at most " + std::to_string(kMaxLabelSelectors) + " selectors"};
+    }
+    begin = comma + 1;
+  }
+  return selectors;
+}
+
+std::string query_value(std::string_view text) {
+  return boost::urls::encode(text, boost::urls::unreserved_chars);
+}
+
+}  // namespace
+
 HttpResponse list_jobs(const Context& c) {
-  std::optional<JobStatus> status;
+  JobFilter filter;
   if (auto text = c.target.get("status")) {
-    status = parse_job_status(*text);
-    if (!status) {
+    filter.status = parse_job_status(*text);
+    if (!filter.status) {
       throw BadParameter{"status",
                          "'status' must be one of queued, running, succeeded, failed, cancelled"};
     }
   }
+  const auto label = c.target.get("label");
+  if (label) filter.labels = parse_label_selectors(*label);
+  const auto name = c.target.get("name");
+  if (name) {
+    if (name->size() > kMaxJobName) {
+      throw BadParameter{"name",
+                         "'name' must be at most " + std::to_string(kMaxJobName) + " characters"};
+    }
+    filter.name_contains = std::string(*name);
+  }
+  if (auto owner = c.owner_filter()) filter.owner = std::string(*owner);
   const int limit = static_cast<int>(integer_param(c.target, "limit", 50, 1, 500));
   const std::int64_t cursor = integer_param(c.target, "cursor", 0, 0, INT64_MAX);
-  const JobPage page = c.service.list(status, cursor, limit, c.owner_filter());
+  const JobPage page = c.service.list(filter, cursor, limit);
   std::string body = "{\"jobs\":[";
   for (std::size_t i = 0; i < page.jobs.size(); ++i) {
     if (i > 0) body += ',';
@@ -145,7 +200,9 @@ HttpResponse list_jobs(const Context& c) {
   if (page.cursor) {
     std::string next =
         "/v1/jobs?limit=" + std::to_string(limit) + "&cursor=" + std::to_string(*page.cursor);
-    if (status) next += "&status=" + std::string(to_string(*status));
+    if (filter.status) next += "&status=" + std::string(to_string(*filter.status));
+    if (label) next += "&label=" + query_value(*label);
+    if (name) next += "&name=" + query_value(*name);
     r.headers.emplace_back("Link", "<" + next + ">; rel=\"next\"");
   }
   return r;

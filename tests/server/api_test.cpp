@@ -1,6 +1,7 @@
 // The HTTP API end to end: a real server on an ephemeral port, a real HTTP client, a real
 // SQLite file.
 #include <cstring>
+#include <map>
 #include <thread>
 
 #include <gtest/gtest.h>
@@ -322,6 +323,80 @@ TEST(Api, ListPagesWithACursorNewestFirst) {
   ASSERT_EQ(seen.size(), 5u);
   for (std::size_t i = 0; i < 5; ++i)
     EXPECT_EQ(seen[i], ids[4 - i]);
+}
+
+TEST(Api, JobsCarryANameAndLabelsAndAreListedByThem) {
+  TestServer server(with_workers(0));
+  const auto submit_named = [&](const std::string& name, const json& labels) {
+    const json body = {{"scene", quick_scene()}, {"name", name}, {"labels", labels}};
+    const ClientResponse r = server.request("POST", "/v1/jobs", body.dump());
+    EXPECT_EQ(r.status, 202) << r.body;
+    const json job = json::parse(r.body);
+    EXPECT_EQ(job.at("name"), name);
+    EXPECT_EQ(job.at("labels"), labels);
+    return job.at("id").get<std::string>();
+  };
+  const std::string a = submit_named("Facade, shot 12", {{"shot", "sq010"}, {"artist", "kim"}});
+  const std::string b = submit_named("Facade, shot 13", {{"shot", "sq010"}});
+  const std::string c = submit_named("Crate", {{"shot", "sq020"}, {"take", "2"}});
+  const std::string plain = submit(server, quick_scene());
+  const json stored = server.get_json("/v1/jobs/" + a);
+  EXPECT_EQ(stored.at("name"), "Facade, shot 12");
+  EXPECT_EQ(stored.at("labels").at("artist"), "kim");
+  EXPECT_EQ(server.get_json("/v1/jobs/" + plain).at("name"), "");
+  EXPECT_EQ(server.get_json("/v1/jobs/" + plain).at("labels"), json::object());
+
+  const auto ids = [&](const std::string& query) {
+    std::vector<std::string> out;
+    const json page = server.get_json("/v1/jobs?" + query);
+    for (const json& job : page.at("jobs"))
+      out.push_back(job.at("id"));
+    return out;
+  };
+  EXPECT_EQ(ids("label=shot=sq010"), (std::vector<std::string>{b, a}));
+  EXPECT_EQ(ids("label=shot=sq010,artist=kim"), (std::vector<std::string>{a}));
+  EXPECT_EQ(ids("label=take"), (std::vector<std::string>{c}));
+  EXPECT_EQ(ids("name=facade"), (std::vector<std::string>{b, a}));
+  EXPECT_EQ(ids("name=shot+13"), (std::vector<std::string>{b}));
+
+  // The next page keeps the filter.
+  const ClientResponse first = server.request("GET", "/v1/jobs?limit=1&label=shot%3Dsq010");
+  ASSERT_EQ(first.status, 200);
+  const std::string link = std::string(first.header("link"));
+  ASSERT_NE(link.find("label=shot%3Dsq010"), std::string::npos) << link;
+  const std::string next = link.substr(1, link.find('>') - 1);
+  const json second = server.get_json(next);
+  ASSERT_EQ(second.at("jobs").size(), 1u);
+  EXPECT_EQ(second.at("jobs")[0].at("id"), a);
+
+  EXPECT_EQ(server.request("GET", "/v1/jobs?label=sh%20ot").status, 400);
+  EXPECT_EQ(server.request("GET", "/v1/jobs?label=a,b,c,d,e,f,g,h,i").status, 400);
+}
+
+TEST(Api, BadNamesAndLabelsAreEachReportedWithTheirPointer) {
+  TestServer server(with_workers(0));
+  const json body = {{"scene", quick_scene()},
+                     {"name", std::string(201, 'x')},
+                     {"labels", {{"shot", 12}, {"bad key", "x"}, {"ok", "a,b"}}},
+                     {"label", {{"shot", "sq010"}}}};
+  const ClientResponse r = server.request("POST", "/v1/jobs", body.dump());
+  ASSERT_EQ(r.status, 422) << r.body;
+  std::map<std::string, std::string> errors;
+  const json problem = json::parse(r.body);
+  for (const json& e : problem.at("errors"))
+    errors[e.at("pointer")] = e.at("detail");
+  EXPECT_EQ(errors.size(), 5u) << r.body;
+  EXPECT_NE(errors["/name"].find("at most 200"), std::string::npos);
+  EXPECT_NE(errors["/labels/shot"].find("strings"), std::string::npos);
+  EXPECT_NE(errors["/labels/bad key"].find("letters"), std::string::npos);
+  EXPECT_NE(errors["/labels/ok"].find("','"), std::string::npos);
+  EXPECT_NE(errors["/label"].find("did you mean 'labels'"), std::string::npos);
+  EXPECT_EQ(server
+                .request("POST", "/v1/jobs",
+                         json{{"scene", quick_scene()}, {"labels", {"a", "b"}}}.dump())
+                .status,
+            422);
+  EXPECT_TRUE(server.get_json("/v1/jobs").at("jobs").empty());
 }
 
 TEST(Api, HigherPriorityJobsRunFirst) {

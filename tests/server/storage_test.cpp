@@ -7,6 +7,7 @@
 #include <mutex>
 #include <set>
 #include <thread>
+#include <tuple>
 
 #include <gtest/gtest.h>
 
@@ -231,6 +232,57 @@ TEST_P(StorageTest, PruneDeletesOnlyFinishedJobsPastRetention) {
   EXPECT_TRUE(storage->get_job("waiting"));
 }
 
+server::JobFilter by(std::optional<JobStatus> status, std::optional<std::string> owner = {}) {
+  server::JobFilter filter;
+  filter.status = status;
+  filter.owner = std::move(owner);
+  return filter;
+}
+
+TEST_P(StorageTest, KeepsNamesAndLabelsAndListsByThem) {
+  auto storage = open();
+  const std::vector<std::tuple<std::string, std::string, std::string>> jobs = {
+      {"j1", "Facade shot 12", R"({"artist":"kim","shot":"sq010"})"},
+      {"j2", "facade test", R"({"shot":"sq020"})"},
+      {"j3", "", "{}"},
+      {"j4", "Crate", R"({"artist":"lee","shot":"sq010","take":"2"})"},
+  };
+  for (const auto& [id, name, labels] : jobs) {
+    auto job = new_job(id);
+    job.name = name;
+    job.labels_json = labels;
+    EXPECT_EQ(storage->create_job(job).job.labels_json, labels);
+  }
+  const auto stored = storage->get_job("j1");
+  ASSERT_TRUE(stored);
+  EXPECT_EQ(stored->name, "Facade shot 12");
+  EXPECT_EQ(stored->labels_json, R"({"artist":"kim","shot":"sq010"})");
+  EXPECT_EQ(storage->get_job("j3")->labels_json, "{}");
+
+  const auto ids = [&](server::JobFilter filter) {
+    std::vector<std::string> out;
+    for (const auto& job : storage->list_jobs(filter, 0, 10).jobs)
+      out.push_back(job.id);
+    return out;
+  };
+  server::JobFilter filter;
+  filter.labels = {{"shot", "sq010"}};
+  EXPECT_EQ(ids(filter), (std::vector<std::string>{"j4", "j1"}));
+  filter.labels = {{"shot", "sq010"}, {"artist", "kim"}};
+  EXPECT_EQ(ids(filter), (std::vector<std::string>{"j1"}));
+  filter.labels = {{"take", std::nullopt}};
+  EXPECT_EQ(ids(filter), (std::vector<std::string>{"j4"}));
+  filter.labels = {{"shot", "sq01"}};  // values match whole, not as prefixes
+  EXPECT_TRUE(ids(filter).empty());
+  filter.labels = {};
+  filter.name_contains = "FACADE";
+  EXPECT_EQ(ids(filter), (std::vector<std::string>{"j2", "j1"}));
+  filter.labels = {{"shot", "sq020"}};
+  EXPECT_EQ(ids(filter), (std::vector<std::string>{"j2"}));
+  filter.status = JobStatus::running;
+  EXPECT_TRUE(ids(filter).empty());
+}
+
 TEST_P(StorageTest, ListsNewestFirstByOwnerAndStatusWithACursor) {
   auto storage = open();
   for (int i = 0; i < 5; ++i) {
@@ -242,22 +294,22 @@ TEST_P(StorageTest, ListsNewestFirstByOwnerAndStatusWithACursor) {
     storage->create_job(job);
   }
   ASSERT_EQ(storage->claim_next("w", 2000, 1000)->job.id, "a0");
-  auto page = storage->list_jobs(std::nullopt, 0, 3, "alice");
+  auto page = storage->list_jobs(by({}, "alice"), 0, 3);
   ASSERT_EQ(page.jobs.size(), 3u);
   EXPECT_EQ(page.jobs[0].id, "a4");
   EXPECT_EQ(page.jobs[2].id, "a2");
   EXPECT_EQ(page.jobs[0].owner, "alice");
   ASSERT_TRUE(page.cursor);
-  page = storage->list_jobs(std::nullopt, *page.cursor, 3, "alice");
+  page = storage->list_jobs(by({}, "alice"), *page.cursor, 3);
   ASSERT_EQ(page.jobs.size(), 2u);
   EXPECT_EQ(page.jobs[1].id, "a0");
   EXPECT_FALSE(page.cursor);
-  page = storage->list_jobs(JobStatus::running, 0, 10, std::nullopt);
+  page = storage->list_jobs(by(JobStatus::running), 0, 10);
   ASSERT_EQ(page.jobs.size(), 1u);
   EXPECT_EQ(page.jobs[0].id, "a0");
-  EXPECT_TRUE(storage->list_jobs(JobStatus::running, 0, 10, "bob").jobs.empty());
-  EXPECT_EQ(storage->list_jobs(JobStatus::queued, 0, 100, std::nullopt).jobs.size(), 9u);
-  EXPECT_EQ(storage->list_jobs(std::nullopt, 0, 100, std::nullopt).jobs.size(), 10u);
+  EXPECT_TRUE(storage->list_jobs(by(JobStatus::running, "bob"), 0, 10).jobs.empty());
+  EXPECT_EQ(storage->list_jobs(by(JobStatus::queued), 0, 100).jobs.size(), 9u);
+  EXPECT_EQ(storage->list_jobs({}, 0, 100).jobs.size(), 10u);
 }
 
 TEST_P(StorageTest, IdempotencyKeysAreScopedToTheirOwner) {
@@ -397,7 +449,7 @@ TEST_P(StorageTest, AnyBytesNameNoJobAndServeAsKeys) {
     EXPECT_FALSE(storage->delete_job(id));
     EXPECT_TRUE(storage->result_frames(id, 0, 10).empty());
   }
-  EXPECT_TRUE(storage->list_jobs(std::nullopt, 0, 10, std::string("\xff")).jobs.empty());
+  EXPECT_TRUE(storage->list_jobs(by({}, "\xff"), 0, 10).jobs.empty());
   auto job = new_job("b");
   job.idempotency_key = "\xff";
   job.request_hash = "h";

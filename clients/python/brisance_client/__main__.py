@@ -97,6 +97,9 @@ def build_parser() -> argparse.ArgumentParser:
                              "(.json); implies --wait")
     submit.add_argument("--priority", type=int, default=None,
                         help="-100..100, higher runs first (default: the file's, else 0)")
+    submit.add_argument("--name", default=None, help="name the job (lists and the dashboard)")
+    submit.add_argument("--label", action="append", default=[], metavar="KEY=VALUE",
+                        help="label the job; repeat for several")
     submit.add_argument("--idempotency-key", default=None,
                         help="name this submission (default: a fresh uuid4)")
     submit.add_argument("--wait-timeout", type=float, default=None,
@@ -161,6 +164,13 @@ def _cmd_submit(client: Client, args: argparse.Namespace, out: TextIO, err: Text
         if extension not in (".glb", ".json"):
             raise UsageError("-o must name a .glb or a .json file, got %r" % output)
     body = _load_job_body(args.scene, args.priority)
+    if args.name is not None:
+        body["name"] = args.name
+    for label in args.label:
+        key, equals, value = label.partition("=")
+        if not equals or not key:
+            raise UsageError("--label takes KEY=VALUE, got %r" % label)
+        body.setdefault("labels", {})[key] = value
     job = client.submit_job(body, idempotency_key=args.idempotency_key)
     out.write(job.id + "\n")
     out.flush()

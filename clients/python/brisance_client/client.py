@@ -27,6 +27,7 @@ import os
 import random
 import shutil
 import struct
+import stat
 import tempfile
 import time
 import urllib.error
@@ -67,6 +68,8 @@ class Job:
     status = property(lambda self: self.data.get("status"))
     progress = property(lambda self: float(self.data.get("progress") or 0.0))
     priority = property(lambda self: self.data.get("priority"))
+    name = property(lambda self: self.data.get("name") or "")
+    labels = property(lambda self: dict(self.data.get("labels") or {}))
     attempts = property(lambda self: self.data.get("attempts"))
     cancel_requested = property(lambda self: bool(self.data.get("cancel_requested")))
     error = property(lambda self: self.data.get("error"))
@@ -95,6 +98,18 @@ class Job:
 
 
 JobRef = Union[Job, str]
+
+
+def _file_mode(path: str) -> int:
+    """The permissions ``open(path, "w")`` would leave: those of the file it replaces, else
+    0666 less the process umask."""
+    try:
+        return stat.S_IMODE(os.stat(path).st_mode)
+    except OSError:
+        pass
+    mask = os.umask(0o022)  # reading the umask means setting it; put it straight back
+    os.umask(mask)
+    return 0o666 & ~mask
 
 
 def _job_id(job: JobRef) -> str:
@@ -342,9 +357,14 @@ class Client:
         scene: Mapping[str, Any],
         priority: int = 0,
         *,
+        name: Optional[str] = None,
+        labels: Optional[Mapping[str, str]] = None,
         idempotency_key: Optional[str] = None,
     ) -> Job:
         """Queue a job ``{"scene": scene, "priority": priority}`` and return it (``queued``).
+
+        ``name`` (at most 200 characters) and ``labels`` (up to 32 ``key: value`` strings) are
+        kept with the job for lists and the dashboard; :meth:`jobs` filters by them.
 
         Retries are safe: they carry the same ``Idempotency-Key`` (a fresh uuid4 unless given)
         and the same bytes. Raises :class:`ProblemError` -- ``422 invalid-scene`` with every
@@ -353,8 +373,12 @@ class Client:
         """
         if not isinstance(scene, Mapping):
             raise TypeError("scene must be a mapping (the decoded scene JSON)")
-        return self.submit_job({"scene": scene, "priority": priority},
-                               idempotency_key=idempotency_key)
+        body: Dict[str, Any] = {"scene": scene, "priority": priority}
+        if name is not None:
+            body["name"] = name
+        if labels is not None:
+            body["labels"] = dict(labels)
+        return self.submit_job(body, idempotency_key=idempotency_key)
 
     def submit_job(self, job: Mapping[str, Any], *, idempotency_key: Optional[str] = None) -> Job:
         """Queue a whole job body (``{"scene": ..., "priority": ...}``) as given."""
@@ -424,12 +448,23 @@ class Client:
         """Submit and wait: the succeeded job (or :class:`JobFailedError`)."""
         return self.wait(self.submit(scene, priority), timeout, progress=progress)
 
-    def jobs(self, status: Optional[str] = None, limit: int = 50) -> Iterator[Job]:
-        """Every job, newest first, following ``next_cursor`` page by page."""
+    def jobs(self, status: Optional[str] = None, limit: int = 50, *,
+             labels: Optional[Mapping[str, Optional[str]]] = None,
+             name: Optional[str] = None) -> Iterator[Job]:
+        """Every job, newest first, following ``next_cursor`` page by page.
+
+        Only jobs with every label in ``labels`` (a value of ``None`` asks only that the key is
+        there) and, with ``name``, whose name contains that text.
+        """
+        label = None
+        if labels:
+            label = ",".join(key if value is None else "%s=%s" % (key, value)
+                             for key, value in labels.items())
         cursor: Optional[str] = None
         while True:
             page = self._json("GET", "/v1/jobs",
-                              query={"status": status, "limit": limit, "cursor": cursor})
+                              query={"status": status, "limit": limit, "cursor": cursor,
+                                     "label": label, "name": name})
             for item in page["jobs"]:
                 yield Job(item)
             cursor = page.get("next_cursor")
@@ -518,6 +553,8 @@ class Client:
         folder = os.path.dirname(os.path.abspath(target))
         handle, temporary = tempfile.mkstemp(prefix=".brisance-", suffix=".glb", dir=folder)
         try:
+            # mkstemp makes the file 0600; the saved file gets the mode open() would give it.
+            os.fchmod(handle, _file_mode(target))
             with os.fdopen(handle, "w+b") as sink:
                 self.request("GET", "/v1/jobs/%s/result.glb" % _job_id(job),
                              accept="model/gltf-binary", sink=sink)

@@ -12,8 +12,10 @@ import copy
 import io
 import json
 import os
+import random
 import signal
 import socket
+import stat
 import subprocess
 import sys
 import tempfile
@@ -253,6 +255,12 @@ class JobsTest(ServerTestCase):
                 data = handle.read()
             self.assertTrue(data.startswith(b"glTF"))
             self.assertEqual(os.listdir(folder), ["out.glb"])  # no temporary file left
+            mask = os.umask(0o027)
+            os.umask(mask)
+            self.assertEqual(stat.S_IMODE(os.stat(path).st_mode), 0o666 & ~mask)
+            os.chmod(path, 0o640)  # a file that is replaced keeps its mode
+            self.client.download_glb(done, path)
+            self.assertEqual(stat.S_IMODE(os.stat(path).st_mode), 0o640)
         self.assertEqual(self.client.glb(done.id), data)
         summary = self.client.result(done)
         self.assertEqual(summary["frame_count"], 61)
@@ -411,6 +419,24 @@ class JobsTest(ServerTestCase):
         with self.assertRaises(ProblemError) as caught:
             self.client.job(job)
         self.assertEqual(caught.exception.status, 404)
+
+    def test_names_and_labels(self) -> None:
+        tag = "t%d" % random.randrange(10**9)  # the server is shared by the tests
+        first = self.client.submit(THREE_BLOCKS, name="Facade shot 12",
+                                   labels={"run": tag, "shot": "sq010"})
+        second = self.client.submit(THREE_BLOCKS, name="Crate", labels={"run": tag})
+        self.assertEqual(first.name, "Facade shot 12")
+        self.assertEqual(first.labels, {"run": tag, "shot": "sq010"})
+        self.assertEqual([job.id for job in self.client.jobs(labels={"run": tag})],
+                         [second.id, first.id])
+        self.assertEqual([job.id for job in self.client.jobs(labels={"run": tag, "shot": None})],
+                         [first.id])
+        self.assertEqual([job.id for job in self.client.jobs(labels={"run": tag},
+                                                             name="facade")], [first.id])
+        with self.assertRaises(ProblemError) as caught:
+            self.client.submit(THREE_BLOCKS, labels={"bad key": "x"})
+        self.assertEqual(caught.exception.status, 422)
+        self.assertIn("/labels/bad key", [pointer for pointer, _ in caught.exception.errors])
 
     def test_list_jobs_pages(self) -> None:
         for _ in range(3):

@@ -101,8 +101,9 @@ export interface paths {
         };
         /**
          * List jobs
-         * @description Jobs newest first, `limit` at a time. When there are more, `next_cursor` is set and a
-         *     `Link: <...>; rel="next"` header names the next page (same `limit` and `status`).
+         * @description Jobs newest first, `limit` at a time, only those matching every filter given. When there
+         *     are more, `next_cursor` is set and a `Link: <...>; rel="next"` header names the next page
+         *     (same `limit` and filters).
          */
         get: operations["listJobs"];
         put?: never;
@@ -588,6 +589,11 @@ export interface components {
          * @description A job to run. Unknown fields are errors (`422`).
          * @example {
          *       "priority": 10,
+         *       "name": "Facade, shot 12",
+         *       "labels": {
+         *         "shot": "sq010",
+         *         "artist": "kim"
+         *       },
          *       "scene": {
          *         "charges": [
          *           {
@@ -632,6 +638,24 @@ export interface components {
              * @default 0
              */
             priority?: number;
+            name?: components["schemas"]["JobName"];
+            labels?: components["schemas"]["JobLabels"];
+        };
+        /**
+         * @description Free text naming the job on the dashboard and in lists: at most 200 characters, no
+         *     control characters. Not unique. `GET /v1/jobs?name=` finds it by a substring.
+         * @default
+         */
+        JobName: string;
+        /**
+         * @description Up to 32 labels, key to value, for a pipeline's own bookkeeping (shot, artist, take...).
+         *     Keys are 1–63 letters, digits, `_`, `.`, `-` or `/`; values are strings of at most 200
+         *     characters without control characters or `,` (it separates the selectors of
+         *     `GET /v1/jobs?label=`).
+         * @default {}
+         */
+        JobLabels: {
+            [key: string]: string;
         };
         /**
          * @description `queued` → `running` → `succeeded` | `failed` | `cancelled` (a queued job can also be
@@ -670,6 +694,11 @@ export interface components {
         /**
          * @example {
          *       "id": "j0f3a9c2e8b1d4f6a7c5e2b9d",
+         *       "name": "Facade, shot 12",
+         *       "labels": {
+         *         "shot": "sq010",
+         *         "artist": "kim"
+         *       },
          *       "status": "queued",
          *       "progress": 0,
          *       "priority": 0,
@@ -691,6 +720,8 @@ export interface components {
         Job: {
             /** @description The job id, `j` and 24 lowercase hex digits. */
             id: string;
+            name: components["schemas"]["JobName"];
+            labels: components["schemas"]["JobLabels"];
             status: components["schemas"]["JobStatus"];
             /** @description Fraction of the simulated time done, 0 → 1. */
             progress: number;
@@ -2031,6 +2062,14 @@ export interface operations {
             query?: {
                 /** @description Only jobs in this state. */
                 status?: components["schemas"]["JobStatus"];
+                /**
+                 * @description Label selectors, comma-separated, all of which must hold: `KEY` (the job has that
+                 *     label) or `KEY=VALUE` (it has that value, compared whole). At most 8.
+                 * @example shot=sq010,artist
+                 */
+                label?: string;
+                /** @description Only jobs whose name contains this text (ASCII letters compared without case). */
+                name?: string;
                 /** @description Jobs per page. */
                 limit?: number;
                 /** @description `next_cursor` of the previous page; 0 or absent starts at the newest job. */

@@ -378,7 +378,10 @@ void Run::finish() {
     final_state.linear_velocity_m_s = {v.x(), v.y(), v.z()};
     final_state.angular_velocity_rad_s = {w.x(), w.y(), w.z()};
     result_.final_state.push_back(std::move(final_state));
-    if (state_.motion[b] == Motion::held) ++result_.stats.bodies_never_released;
+    if (state_.motion[b] == Motion::held) {
+      ++result_.stats.bodies_never_released;
+      if (model_.fragment[b]) ++result_.stats.fragments_held_by_frame;
+    }
   }
   std::vector<std::uint8_t> pending(model_.panels.size(), 0);
   for (std::size_t e = state_.next_event; e < model_.events.size(); ++e)

@@ -86,7 +86,7 @@ json stats_to_json(const engine::Stats& stats) {
   // Binding every member by name makes a field added to Stats a compile error here until it is
   // written too, so "stats" always holds every field.
   const auto& [steps, simulated_time_s, wall_time_s, ended_early, bodies, bodies_anchored,
-               bodies_never_released, bodies_slept, bodies_static_in_frames, panels, panels_loaded,
+               bodies_never_released, fragments_held_by_frame, bodies_slept, bodies_static_in_frames, panels, panels_loaded,
                panels_back_facing, panels_not_reached, body_steps, occlusion_skipped,
                panels_shielded, panes_broken, panes_not_broken, fragments, collision_pairs,
                collision_pairs_skipped, contact_points] = stats;
@@ -97,6 +97,7 @@ json stats_to_json(const engine::Stats& stats) {
               {"bodies", bodies},
               {"bodies_anchored", bodies_anchored},
               {"bodies_never_released", bodies_never_released},
+              {"fragments_held_by_frame", fragments_held_by_frame},
               {"bodies_slept", bodies_slept},
               {"bodies_static_in_frames", bodies_static_in_frames},
               {"panels", panels},

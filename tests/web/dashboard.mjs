@@ -234,6 +234,8 @@ try {
     // 100 kg rather than the template's 10: the blocks then move by a metre, which the player
     // test can see.
     await submitFromForm(page, open, "100");
+    await page.fill("#job-name", "Three blocks, take 2");
+    await page.fill("#job-labels", "shot=sq010, artist=kim");
     await page.click("#submit-job");
     await page.waitForURL(/#\/jobs\/j[0-9a-f]{24}$/);
     jobId = page.url().match(/j[0-9a-f]{24}$/)[0];
@@ -243,6 +245,13 @@ try {
     check(await bar.getAttribute("aria-valuenow") === "1", `progress ${await bar.getAttribute("aria-valuenow")}`);
     check((await bar.textContent()).includes("done"), `bar reads '${await bar.textContent()}'`);
     await page.locator("#job-stats").waitFor();
+    check((await page.locator(".job-header h1").textContent()).startsWith("Three blocks, take 2"), "name in the title");
+    await page.locator('.label-chip:text-is("shot=sq010")').first().waitFor();
+    // Counts are whole numbers, as counted: four significant digits would round them.
+    const bodySteps = await page.locator('#job-stats tr:has(th:text-is("Body steps")) td').textContent();
+    const job = await (await fetch(`${open.url}/v1/jobs/${jobId}`)).json();
+    check(bodySteps.replaceAll(",", "") === String(job.stats.body_steps),
+          `body steps read '${bodySteps}', the job has ${job.stats.body_steps}`);
     await page.locator("#job-warnings h2").first().waitFor();
     await shot(page, "job-done");
   });
@@ -301,6 +310,22 @@ try {
     await page.waitForURL(/#\/jobs\?status=failed$/);
     await page.locator("#jobs-table .empty").waitFor();
     await page.selectOption("#status-filter", "succeeded");
+    await page.locator(`#jobs-table tr[data-job="${jobId}"]`).waitFor();
+    check(await page.locator(`#jobs-table tr[data-job="${jobId}"] .job-name`).textContent() === "Three blocks, take 2",
+          "name column");
+    // Labels and names filter too, and stay in the address.
+    await page.fill("#label-filter", "artist=lee");
+    await page.click('#job-filters button[type="submit"]');
+    await page.waitForURL(/label=artist%3Dlee/);
+    await page.locator("#jobs-table .empty").waitFor();
+    await page.click("#clear-filters");
+    await page.locator(`#jobs-table tr[data-job="${jobId}"] .label-chip:text-is("artist=kim")`).click();
+    await page.waitForURL(/label=artist%3Dkim/);
+    await page.locator(`#jobs-table tr[data-job="${jobId}"]`).waitFor();
+    check(await page.locator("#jobs-table tr[data-job]").count() === 1, "only the labelled job");
+    await page.fill("#name-filter", "TAKE 2");
+    await page.click('#job-filters button[type="submit"]');
+    await page.waitForURL(/name=TAKE/);
     await page.locator(`#jobs-table tr[data-job="${jobId}"]`).waitFor();
   });
 

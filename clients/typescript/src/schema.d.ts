@@ -776,8 +776,13 @@ export interface components {
             ended_early: boolean;
             bodies: number;
             bodies_anchored: number;
-            /** @description Held by friction throughout, never integrated. */
+            /**
+             * @description Held throughout, never integrated: by friction (objects resting where the blast
+             *     cannot slide them) or, for glass fragments, by their frame.
+             */
             bodies_never_released: number;
+            /** @description Of `bodies_never_released`, the glass fragments their frame kept. */
+            fragments_held_by_frame: number;
             /** @description Came to rest and stopped being integrated. */
             bodies_slept: number;
             /** @description Stored once instead of per frame. */

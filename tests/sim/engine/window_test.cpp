@@ -224,8 +224,11 @@ TEST(PaneCoupling, FragmentsBreakFreeAsTheWaveSweepsThePane) {
     earliest_far = std::min(earliest_far, by_distance[by_distance.size() - 1 - i].second);
   }
   EXPECT_LT(latest_near, earliest_far);
-  // Framed: fragments along the frame are held harder; some stay in it.
+  // Framed: fragments along the frame are held harder; some stay in it, and the stats count them
+  // as held by their frame.
   EXPECT_LT(pane.released, pane.fragment_count);
+  EXPECT_EQ(r.stats.fragments_held_by_frame, pane.fragment_count - pane.released);
+  EXPECT_GE(r.stats.bodies_never_released, r.stats.fragments_held_by_frame);
 }
 
 TEST(PaneCoupling, DeterministicFragmentsAndFrames) {

@@ -4,13 +4,14 @@ import { client, describe, isAbort, type Job, ProblemError, type ResultSummary, 
 import { download, h, mount, sleep } from "../dom";
 import { dateTime, finished, num, queuedFor, ranFor, seconds } from "../format";
 import type { View } from "../view";
-import { badge, errorBox, progressBar } from "../widgets";
+import { badge, errorBox, labelChips, progressBar } from "../widgets";
 
 // Labels of the run statistics; a field the server adds later is shown under its own name.
 const STAT_LABELS: Record<string, string> = {
   steps: "Time steps", simulated_time_s: "Simulated time (s)", wall_time_s: "Wall time (s)",
   ended_early: "Ended early (all at rest)", bodies: "Bodies", bodies_anchored: "Anchored",
-  bodies_never_released: "Never released (held by friction)", bodies_slept: "Slept",
+  bodies_never_released: "Never released (held in place throughout)",
+  fragments_held_by_frame: "Glass fragments held by their frame", bodies_slept: "Slept",
   bodies_static_in_frames: "Stored once (static)", panels: "Load panels", panels_loaded: "Panels loaded",
   panels_back_facing: "Panels sheltered from every charge", panels_not_reached: "Panels not reached",
   body_steps: "Body steps", occlusion_skipped: "Occlusion skipped",
@@ -19,12 +20,16 @@ const STAT_LABELS: Record<string, string> = {
   contact_points: "Contact points",
 };
 
+// Counts are exact integers (164359 body steps, not 164400); measured values keep four digits.
+const statValue = (value: number): string =>
+  Number.isInteger(value) ? value.toLocaleString("en-US") : num(value, 4);
+
 function statsTable(stats: RunStats): HTMLElement {
   const entries = Object.entries(stats as unknown as Record<string, unknown>)
     .filter(([, value]) => typeof value === "number" || typeof value === "boolean");
   return h("table", { class: "kv", id: "job-stats" }, h("tbody", null, entries.map(([key, value]) =>
     h("tr", null, h("th", null, STAT_LABELS[key] ?? key.replaceAll("_", " ")),
-      h("td", { class: "num" }, typeof value === "number" ? num(value, 4) : value ? "yes" : "no")))));
+      h("td", { class: "num" }, typeof value === "number" ? statValue(value) : value ? "yes" : "no")))));
 }
 
 // Which bodies each charge's shielding pass scaled down, and by how much (docs/occlusion.md).
@@ -43,7 +48,9 @@ function shieldingSection(result: ResultSummary): HTMLElement | null {
 }
 
 function infoTable(job: Job): HTMLElement {
-  const rows: [string, string | number][] = [
+  const rows: [string, string | number | HTMLElement][] = [
+    ["Name", job.name || "–"],
+    ["Labels", labelChips(job.labels)],
     ["Submitted", dateTime(job.created_at)],
     ["Started", dateTime(job.started_at)],
     ["Finished", dateTime(job.finished_at)],
@@ -99,7 +106,7 @@ export const jobView: View = (root, route, signal) => {
   }
 
   function render(job: Job): void {
-    mount(header, h("h1", null, "Job ", h("code", null, job.id), " ", badge(job.status)),
+    mount(header, h("h1", null, job.name ? `${job.name} ` : "Job ", h("code", null, job.id), " ", badge(job.status)),
           progressBar(job, true), actions(job));
     mount(body,
       h("div", { class: "columns" },

@@ -29,6 +29,10 @@ export const newJobView: View = async (root, route, signal) => {
   const templateSelect = h("select", { id: "template", name: "template", onchange: () => loadTemplate(templateSelect.value) },
     templates.map((t) => h("option", { value: t.name, selected: t.name === initial }, t.name)));
   const chargesBox = h("div", { id: "charges" });
+  const jobName = h("input", { id: "job-name", name: "name", type: "text", maxlength: 200, size: 24,
+                               placeholder: "Facade, shot 12" });
+  const jobLabels = h("input", { id: "job-labels", name: "labels", type: "text", size: 24,
+                                 placeholder: "shot=sq010, artist=kim" });
   const priority = h("input", { id: "priority", name: "priority", type: "number", step: 1, min: -100, max: 100, value: "0" });
   const rest = h("textarea", { id: "scene-rest", rows: 16, spellcheck: false, "aria-label": "Rest of the scene (JSON)" });
   const otherErrors = h("div", { id: "other-errors" });
@@ -157,7 +161,15 @@ export const newJobView: View = async (root, route, signal) => {
       return;
     }
     charges = readCharges();
-    const request = { scene: { ...others, charges } as Scene, priority: numberOrText(priority.value) as number } satisfies JobRequest;
+    // "k=v, k2=v2" → {k: v, k2: v2}; an entry without "=" is sent as a key with an empty value,
+    // so the server's message about it points at it.
+    const labels = Object.fromEntries(jobLabels.value.split(",").map((item) => item.trim()).filter(Boolean)
+      .map((item) => { const at = item.indexOf("="); return at < 0 ? [item, ""] : [item.slice(0, at).trim(), item.slice(at + 1).trim()]; }));
+    const request = {
+      scene: { ...others, charges } as Scene, priority: numberOrText(priority.value) as number,
+      ...(jobName.value.trim() ? { name: jobName.value.trim() } : {}),
+      ...(Object.keys(labels).length ? { labels } : {}),
+    } satisfies JobRequest;
     submit.disabled = true;
     message.textContent = "Submitting…";
     try {
@@ -177,7 +189,9 @@ export const newJobView: View = async (root, route, signal) => {
   mount(root, h("h1", null, "New job"),
     h("form", { id: "new-job", class: "new-job", onsubmit: (e: Event) => void onSubmit(e), novalidate: true },
       h("div", { class: "toolbar" }, h("label", null, "Template ", templateSelect),
-        h("label", { class: "field", "data-pointer": "/priority" }, "Priority ", priority)),
+        h("label", { class: "field", "data-pointer": "/priority" }, "Priority ", priority),
+        h("label", { class: "field", "data-pointer": "/name" }, "Name ", jobName),
+        h("label", { class: "field", "data-pointer": "/labels" }, "Labels ", jobLabels)),
       h("h2", null, "Charges"), chargesBox,
       h("h2", null, "Rest of the scene"),
       h("p", { class: "muted small" }, "Objects, generators, environment and simulation, as in docs/scene-format.md."),

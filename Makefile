@@ -54,11 +54,21 @@ gltf-validator: node
 	npm ci --prefix tests/gltf --no-audit --no-fund --loglevel=error
 	npm ci --prefix tests/contract --no-audit --no-fund --loglevel=error
 
-# The dashboard, built into web/dist (served by `brisance serve` at /).
-web: node
-	npm ci --prefix clients/typescript --no-audit --no-fund --loglevel=error
-	npm ci --prefix web --no-audit --no-fund --loglevel=error
+# The dashboard, built into web/dist (served by `brisance serve` at /). Each step runs only when
+# its inputs changed: npm ci when a package-lock.json is newer than the packages it installed
+# (a stamp in node_modules), the Vite build when a source is newer than web/dist.
+WEB_SOURCES := $(shell find web/src clients/typescript/src -type f 2>/dev/null) web/index.html \
+  web/vite.config.ts web/tsconfig.json
+web: web/dist/index.html
+
+%/node_modules/.brisance-installed: %/package-lock.json %/package.json | node
+	npm ci --prefix $* --no-audit --no-fund --loglevel=error
+	touch $@
+
+web/dist/index.html: web/node_modules/.brisance-installed \
+    clients/typescript/node_modules/.brisance-installed $(WEB_SOURCES)
 	npm run --prefix web build
+	touch $@
 
 # The browser tests (tests/web.cmake): Debian's chromium driven by playwright-core; and the
 # PostgreSQL server the store's tests start (tests/server/postgres_fixture.hpp).
@@ -80,9 +90,9 @@ build: deps $(BUILD_DIR)/release/CMakeCache.txt
 
 # Builds the release binary and serves the dashboard and the API on http://127.0.0.1:8080 with
 # its SQLite store in ./data (Ctrl-C stops it gracefully). BRISANCE_* variables configure it
-# (docs/service.md).
+# (docs/service.md): no flag is passed, so none overrides them.
 run: build web
-	$(BUILD_DIR)/release/cli/brisance serve --data data
+	$(BUILD_DIR)/release/cli/brisance serve
 
 # The whole test suite, built with AddressSanitizer + UndefinedBehaviorSanitizer and warnings as
 # errors, run through CTest.

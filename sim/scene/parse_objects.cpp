@@ -300,7 +300,8 @@ std::optional<SceneObject> parse_object(const json& value, const std::string& po
       {"name", "shape", "position", "orientation", "mass", "density", "friction",
        "drag_coefficient", "anchored", "blocks", "rotates", "sheltered", "material", "fracture"});
   ObjectSpec object;
-  if (auto name = fields.required_name("name")) object.name = *name;
+  const auto name = fields.required_name("name");
+  if (name) object.name = *name;
 
   std::optional<Material> material;
   if (const json* material_value = fields.get("material")) {
@@ -320,8 +321,10 @@ std::optional<SceneObject> parse_object(const json& value, const std::string& po
 
   const bool shape_ok = parse_shape(fields, limits, object);
 
+  const ErrorScope placement(errors);
   object.position = fields.vec3("position", Vec3::Zero(), any_number("m"));
   object.orientation = fields.orientation("orientation");
+  const bool placed = name && shape_ok && placement.ok();
 
   // Mass: given, or density (given or the material's) times the mesh's volume.
   const MassOrDensity given = read_mass_or_density(fields);
@@ -373,7 +376,7 @@ std::optional<SceneObject> parse_object(const json& value, const std::string& po
                  "'anchored' and set 'fracture.framed' to hold its edges in a frame");
     }
   }
-  if (!scope.ok()) return std::nullopt;
+  if (!scope.ok() && !placed) return std::nullopt;
   return SceneObject{std::move(object), fields.at("name"), fields.at("position"), std::nullopt};
 }
 

@@ -52,8 +52,8 @@ std::optional<ChargeSpec> parse_charge(const json& value, const std::string& poi
   const Fields fields(value, pointer, errors, "a charge",
                       {"position", "mass", "explosive", "burst", "burst_model"});
   ChargeSpec charge;
-  if (auto position = fields.required_vec3("position", any_number("m")))
-    charge.position = *position;
+  const auto position = fields.required_vec3("position", any_number("m"));
+  if (position) charge.position = *position;
   if (auto mass = fields.required_number("mass", positive("kg"))) charge.mass_kg = *mass;
 
   if (const json* explosive = fields.get("explosive")) {
@@ -82,7 +82,9 @@ std::optional<ChargeSpec> parse_charge(const json& value, const std::string& poi
   charge.burst = fields.choice("burst", blast::Burst::air, kBursts);
   charge.surface_model =
       fields.choice("burst_model", blast::SurfaceBurstModel::hemispherical, kSurfaceBurstModels);
-  if (!scope.ok()) return std::nullopt;
+  // A charge placed where it is valid still takes part in the scene-wide checks (below the
+  // ground, inside an object) when its other fields are wrong, so every problem is listed at once.
+  if (!scope.ok() && !position) return std::nullopt;
   return charge;
 }
 

@@ -16,6 +16,9 @@
 
 namespace brisance::scene {
 
+// The charge, or nullopt when it has no valid position. A charge with a valid position is
+// returned even when other fields have errors (they are in `errors`), so that the scene-wide
+// checks still see it and report their problems in the same pass.
 std::optional<ChargeSpec> parse_charge(const json& value, const std::string& pointer,
                                        Errors& errors);
 EnvironmentSpec parse_environment(const json& value, const std::string& pointer, Errors& errors);
@@ -30,6 +33,8 @@ struct SceneObject {
   std::optional<std::size_t> generator;  // index into `generators`, if generated
 };
 
+// The object, or nullopt when its name, shape or placement is invalid. As with charges, an
+// object whose other fields have errors (in `errors`) is still returned for the scene-wide checks.
 std::optional<SceneObject> parse_object(const json& value, const std::string& pointer,
                                         const Limits& limits, Errors& errors);
 

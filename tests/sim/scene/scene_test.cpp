@@ -178,6 +178,30 @@ TEST(SceneParse, TextIsParsedLikeTheDocument) {
 // ---------------------------------------------------------------------------------------------
 // Malformed input and the shape of errors
 
+TEST(SceneErrors, ScenewideChecksSeeChargesAndObjectsWithOtherErrors) {
+  // A wrong explosive or mass must not hide that the charge is buried, the object sunk in the
+  // ground or the charge inside an object: validation lists every problem in one pass.
+  json doc = minimal_scene();
+  doc["environment"] = {{"ground", {{"height", 0}}}};
+  doc["charges"] = {{{"position", {0, -1, -5}}, {"mass", 1}, {"explosive", "TNTX"}},
+                    {{"position", {0, 0.5, 0}}, {"mass", -2}}};
+  doc["objects"][0]["mass"] = -3;
+  doc["objects"].push_back({{"name", "sunk"},
+                            {"shape", {{"type", "box"}, {"size", {1, 1, 1}}}},
+                            {"position", {5, -2, 0}},
+                            {"friction", -1},
+                            {"mass", 1}});
+  const ParseResult result = parse_scene(doc);
+  EXPECT_FALSE(result.scene);
+  for (const char* pointer : {"/charges/0/explosive", "/charges/0/position", "/charges/1/mass",
+                              "/charges/1/position", "/objects/0/mass", "/objects/1/friction",
+                              "/objects/1/position"}) {
+    EXPECT_NE(find_error(result, pointer), nullptr) << pointer << " missing in\n"
+                                                    << dump_errors(result);
+  }
+  EXPECT_EQ(result.errors.size(), 7u) << dump_errors(result);
+}
+
 TEST(SceneErrors, MalformedJsonIsOneErrorWithTheBytePosition) {
   const ParseResult result = parse_scene_text(R"({"charges": [}")");
   ASSERT_EQ(result.errors.size(), 1u) << dump_errors(result);

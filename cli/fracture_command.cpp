@@ -1,4 +1,5 @@
 // `brisance fracture`: grow a crack pattern on a pane and write its fragments (thesis ch. 5.4).
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <cstdint>
@@ -11,6 +12,7 @@
 
 #include "cli/commands.hpp"
 #include "cli/text.hpp"
+#include "sim/engine/pane_pattern.hpp"
 #include "sim/fracture/fragments.hpp"
 
 namespace brisance::cli {
@@ -18,21 +20,33 @@ namespace brisance::cli {
 namespace {
 
 constexpr std::string_view kHelp =
-    "usage: brisance fracture --width W --height H [--initial-crack L] [--branch-angle-deg A]\n"
+    "usage: brisance fracture --width W --height H [--thickness T]\n"
+    "                         [--pressure-kpa P | --growth-length A_C] [--branch-angle-deg A]\n"
     "                         [--angle-variance-deg V] [--wiggle-prob P] [--wiggle-deg D]\n"
-    "                         [--grid N] [--growth-length A_C] [--seed S]\n"
+    "                         [--grid N] [--initial-crack L] [--seed S]\n"
     "                         -o pattern.svg|pattern.json\n"
     "\n"
-    "Grows a crack tree on a pane and writes the fragments it cuts the pane into.\n"
+    "Grows the crack pattern a job grows for a breakable pane and writes the fragments it cuts\n"
+    "the pane into. Every default is the scene's 'fracture' default (annealed glass,\n"
+    "docs/fracture.md), so the same pane, pressure and seed give the job's pattern.\n"
     "  --width W, --height H    pane size in m (> 0)\n"
-    "  --initial-crack L        length of the initial micro-crack at the centre, m (default 0.02)\n"
-    "  --branch-angle-deg A     angle between the two branches of a fork (default 15)\n"
-    "  --angle-variance-deg V   forks open A +- V/2, uniform (default 0)\n"
-    "  --wiggle-prob P          chance that a tip turns at each new piece, 0..1 (default 0)\n"
-    "  --wiggle-deg D           a turn is uniform in +-D/2 degrees (default 0)\n"
-    "  --grid N                 bit bucket cells along each side (default 2048)\n"
-    "  --growth-length A_C      crack growth between forks a_c, m (default 0.02)\n"
-    "  --seed S                 random seed, a non-negative integer (default 1)\n"
+    "  --thickness T            pane thickness, m (default 0.006)\n"
+    "  --pressure-kpa P         peak pressure on the pane, kPa (a job's fracture report gives "
+    "it):\n"
+    "                           the growth length follows from the pane's stress (thesis eq. "
+    "5.5);\n"
+    "                           default: the pressure that just breaks the pane (coarsest "
+    "pattern)\n"
+    "  --growth-length A_C      crack growth between forks, m, instead (fracture.growth_length)\n"
+    "  --branch-angle-deg A     angle between the two branches of a fork (default 25)\n"
+    "  --angle-variance-deg V   forks open A +- V/2, uniform (default 34.5)\n"
+    "  --wiggle-prob P          chance that a tip turns at each new piece, 0..1 (default 0.3)\n"
+    "  --wiggle-deg D           a turn is uniform in +-D/2 degrees (default 30)\n"
+    "  --grid N                 bit bucket cells along the longer side (default 2048)\n"
+    "  --initial-crack L        length of the initial cross at the centre, m (default: as a job,\n"
+    "                           2 A_C, at most a quarter of the shorter side)\n"
+    "  --seed S                 random seed, a non-negative integer (default 1; a job's pane uses\n"
+    "                           fracture.seed, else one mixed from simulation.seed)\n"
     "  -o, --output FILE        .svg (a picture) or .json (fragment polygons in m)\n";
 
 double flag_number(const ParsedFlags& flags, std::string_view name, double fallback) {
@@ -40,47 +54,85 @@ double flag_number(const ParsedFlags& flags, std::string_view name, double fallb
   return value ? *value : fallback;
 }
 
-fracture::FractureParams parse(const ParsedFlags& flags) {
+struct Plan {
+  double thickness_m = 0.006;
+  double pressure_pa = 0.0;
+  bool pressure_given = false;
+  engine::PanePattern pattern;
+};
+
+Plan parse(const ParsedFlags& flags) {
   if (!flags.positional().empty())
     flags.fail("unexpected argument '" + std::string(flags.positional().front()) + "'");
-  fracture::FractureParams p;
   for (const char* required : {"width", "height"})
     if (!flags.has(required))
       flags.fail("--" + std::string(required) + " is required (see --help)");
-  p.width_m = flag_number(flags, "width", 0.0);
-  p.height_m = flag_number(flags, "height", 0.0);
-  if (!(p.width_m > 0.0) || !(p.height_m > 0.0))
-    flags.fail(text::printf("--width and --height must be greater than 0 m, got %g x %g", p.width_m,
-                            p.height_m));
-  p.initial.length_m = flag_number(flags, "initial-crack", p.initial.length_m);
-  p.branch_angle_deg = flag_number(flags, "branch-angle-deg", p.branch_angle_deg);
-  p.angle_variance_deg = flag_number(flags, "angle-variance-deg", p.angle_variance_deg);
-  p.wiggle_probability = flag_number(flags, "wiggle-prob", p.wiggle_probability);
-  p.wiggle_variance_deg = flag_number(flags, "wiggle-deg", p.wiggle_variance_deg);
-  p.growth_length_m = flag_number(flags, "growth-length", p.growth_length_m);
-  const double grid = flag_number(flags, "grid", 2048.0);
+  const double width = flag_number(flags, "width", 0.0);
+  const double height = flag_number(flags, "height", 0.0);
+  if (!(width > 0.0) || !(height > 0.0))
+    flags.fail(
+        text::printf("--width and --height must be greater than 0 m, got %g x %g", width, height));
+  Plan plan;
+  plan.thickness_m = flag_number(flags, "thickness", plan.thickness_m);
+  if (!(plan.thickness_m > 0.0) || plan.thickness_m > std::min(width, height))
+    flags.fail(
+        text::printf("--thickness must be greater than 0 m and at most the pane's "
+                     "shorter side, got %g",
+                     plan.thickness_m));
+  if (flags.has("pressure-kpa") && flags.has("growth-length"))
+    flags.fail("give --pressure-kpa or --growth-length, not both");
+
+  // The scene's defaults, with the flags given in their place.
+  scene::FractureSpec spec;
+  spec.trigger = scene::FractureSpec::Trigger::always;  // a preview always shows a pattern
+  spec.branch_angle_deg = flag_number(flags, "branch-angle-deg", spec.branch_angle_deg);
+  spec.angle_variance_deg = flag_number(flags, "angle-variance-deg", spec.angle_variance_deg);
+  spec.wiggle_probability = flag_number(flags, "wiggle-prob", spec.wiggle_probability);
+  spec.wiggle_variance_deg = flag_number(flags, "wiggle-deg", spec.wiggle_variance_deg);
+  if (flags.has("growth-length")) {
+    spec.growth_length_m = flag_number(flags, "growth-length", 0.0);
+    if (!(*spec.growth_length_m > 0.0))
+      flags.fail(
+          text::printf("--growth-length must be greater than 0 m, got %g", *spec.growth_length_m));
+  }
+  const double grid = flag_number(flags, "grid", spec.grid);
   if (grid != static_cast<double>(static_cast<long>(grid)) || grid < 4 ||
       grid > fracture::FractureParams::kMaxGridCells)
     flags.fail(text::printf("--grid must be a whole number of cells from 4 to %d, got %g",
                             fracture::FractureParams::kMaxGridCells, grid));
-  p.grid_x = p.grid_y = static_cast<int>(grid);
-  if (const auto seed = flags.value("seed")) {
-    std::uint64_t parsed = 0;
-    const char* end = seed->data() + seed->size();
-    const auto [ptr, ec] = std::from_chars(seed->data(), end, parsed);
+  spec.grid = static_cast<int>(grid);
+  std::uint64_t seed = 1;
+  if (const auto text = flags.value("seed")) {
+    const char* end = text->data() + text->size();
+    const auto [ptr, ec] = std::from_chars(text->data(), end, seed);
     if (ec != std::errc() || ptr != end)
-      flags.fail("--seed must be a non-negative integer, got '" + std::string(*seed) + "'");
-    p.seed = parsed;
+      flags.fail("--seed must be a non-negative integer, got '" + std::string(*text) + "'");
   }
+  if (flags.has("pressure-kpa")) {
+    plan.pressure_pa = 1e3 * flag_number(flags, "pressure-kpa", 0.0);
+    plan.pressure_given = true;
+    if (!(plan.pressure_pa > 0.0) || !std::isfinite(plan.pressure_pa))
+      flags.fail(
+          text::printf("--pressure-kpa must be greater than 0, got %g", plan.pressure_pa / 1e3));
+  } else {
+    plan.pressure_pa = engine::breaking_pressure_pa(spec, width, height, plan.thickness_m);
+  }
+  plan.pattern =
+      engine::pane_pattern(spec, width, height, plan.thickness_m, plan.pressure_pa, seed);
+  fracture::FractureParams& p = plan.pattern.params;
+  p.initial.length_m = flag_number(flags, "initial-crack", p.initial.length_m);
   if (const auto problem = fracture::validate(p)) flags.fail(*problem);
-  return p;
+  return plan;
 }
 
-nlohmann::ordered_json to_json(const fracture::FractureParams& p,
-                               const fracture::FracturePattern& pattern) {
+nlohmann::ordered_json to_json(const Plan& plan, const fracture::FracturePattern& pattern) {
+  const fracture::FractureParams& p = plan.pattern.params;
   nlohmann::ordered_json out;
   out["width"] = p.width_m;
   out["height"] = p.height_m;
+  out["thickness"] = plan.thickness_m;
+  out["pressure_kpa"] = plan.pressure_pa / 1e3;
+  out["stress_mpa"] = plan.pattern.response.plate.stress_pa / 1e6;
   out["seed"] = p.seed;
   out["grid"] = p.grid_x;
   out["initial_crack"] = p.initial.length_m;
@@ -136,6 +188,8 @@ int run_fracture(const Args& args, std::ostream& out) {
                            {"wiggle-deg"},
                            {"grid"},
                            {"growth-length"},
+                           {"thickness"},
+                           {"pressure-kpa"},
                            {"seed"},
                            {"output", true, "o"},
                            {"help", false, "h"}});
@@ -149,17 +203,24 @@ int run_fracture(const Args& args, std::ostream& out) {
   const bool json = path.ends_with(".json");
   if (!json && !path.ends_with(".svg"))
     flags.fail("-o must end in .svg or .json, got '" + path + "'");
-  const fracture::FractureParams params = parse(flags);
-  const fracture::FracturePattern pattern = fracture::fracture(params);
+  const Plan plan = parse(flags);
+  const fracture::FracturePattern pattern = fracture::fracture(plan.pattern.params);
   std::ofstream file(path, std::ios::binary);
   if (!file) flags.fail("cannot write '" + path + "'; check the directory exists");
   if (json) {
-    file << to_json(params, pattern).dump() << "\n";
+    file << to_json(plan, pattern).dump() << "\n";
   } else {
     file << to_svg(pattern);
   }
   if (!file) throw std::runtime_error("writing '" + path + "' failed");
-  out << text::printf("%zu fragments written to %s\n", pattern.fragments.size(), path.c_str());
+  out << text::printf(
+      "%zu fragments written to %s (growth length %.3g m%s; stress %.3g MPa at %.4g kPa%s)\n",
+      pattern.fragments.size(), path.c_str(), plan.pattern.growth_length_m,
+      plan.pattern.growth_length_given     ? ", given"
+      : plan.pattern.growth_length_clamped ? ", clamped"
+                                           : "",
+      plan.pattern.response.plate.stress_pa / 1e6, plan.pressure_pa / 1e3,
+      plan.pressure_given ? "" : ", the pressure that just breaks it");
   return kExitOk;
 }
 

@@ -6,6 +6,7 @@
 
 #include "sim/blast/blast_point.hpp"
 #include "sim/blast/reflection.hpp"
+#include "sim/engine/pane_pattern.hpp"
 #include "sim/fracture/fragments.hpp"
 #include "sim/fracture/pane.hpp"
 #include "sim/geometry/polygon.hpp"
@@ -129,28 +130,15 @@ PaneReport break_pane(const scene::ObjectSpec& object, std::size_t index,
   report.name = object.name;
   report.strength_pa = spec.strength_pa;
   report.peak_pressure_pa = peak_pressure_at(object.position, normal, charges, out_of_range);
-  // The bit bucket's cell; forks closer than two cells cannot be told apart on the grid, and a
-  // growth length beyond half the pane gives no fork at all.
-  const double longer = std::max(width, height);
-  const double shorter = std::min(width, height);
-  const double cell = longer / spec.grid;
-  fracture::PaneFractureInput input;
-  input.width_m = width;
-  input.height_m = height;
-  input.thickness_m = thickness;
-  input.youngs_modulus_pa = spec.youngs_modulus_pa;
-  input.fracture_toughness_pa_sqrt_m = spec.fracture_toughness_pa_sqrt_m;
-  input.strength_pa = spec.strength_pa;
-  input.pressure_pa = report.peak_pressure_pa;
-  input.pattern_scale = spec.pattern_scale;
-  input.min_growth_length_m = 2.0 * cell;
-  input.max_growth_length_m = 0.5 * shorter;
-  const fracture::PaneFracture response = fracture::pane_fracture(input);
+  const PanePattern pattern_plan =
+      pane_pattern(spec, width, height, thickness, report.peak_pressure_pa,
+                   spec.seed ? *spec.seed : mix_seed(simulation.seed, index));
+  const fracture::PaneFracture& response = pattern_plan.response;
   report.stress_pa = response.plate.stress_pa;
   report.deflection_m = response.plate.deflection_m;
   report.small_deflection = response.plate.small_deflection;
   report.critical_crack_length_m = response.critical_crack_length_m;
-  report.forced = spec.trigger == scene::FractureSpec::Trigger::always && !response.breaks;
+  report.forced = pattern_plan.forced;
   report.broken = response.breaks || report.forced;
   report.empirical_mean_area_m2 = fracture::empirical_fragment_area_m2(report.peak_pressure_pa);
   if (thickness > 7.62e-4 && report.peak_pressure_pa > 0.0)
@@ -166,38 +154,10 @@ PaneReport break_pane(const scene::ObjectSpec& object, std::size_t index,
     return report;
   }
 
-  // The pattern's growth length: given, or eq. 5.5's scaled (forced panes below any stress
-  // crack at the coarsest scale).
-  double growth = response.growth_length_m;
-  report.growth_length_clamped = response.clamped;
-  if (spec.growth_length_m) {
-    growth = std::clamp(*spec.growth_length_m, cell, input.max_growth_length_m);
-    report.growth_length_given = true;
-    report.growth_length_clamped = growth != *spec.growth_length_m;
-  } else if (!response.breaks) {
-    growth = input.max_growth_length_m;
-    report.growth_length_clamped = true;
-  }
-  report.growth_length_m = growth;
-
-  fracture::FractureParams params;
-  params.width_m = width;
-  params.height_m = height;
-  const int cells_short = std::max(4, static_cast<int>(std::lround(spec.grid * shorter / longer)));
-  params.grid_x = width >= height ? spec.grid : cells_short;
-  params.grid_y = width >= height ? cells_short : spec.grid;
-  params.growth_length_m = growth;
-  // An X at the pane's centre, where a framed pane cracks first (thesis §5.4.1): four tips
-  // make an early death of the whole tree, which one segment's two tips can meet, unlikely.
-  params.initial.shape = fracture::InitialCrack::Shape::cross;
-  params.initial.length_m = std::min(2.0 * growth, 0.25 * shorter);
-  params.branch_angle_deg = spec.branch_angle_deg;
-  params.angle_variance_deg = spec.angle_variance_deg;
-  params.wiggle_probability = spec.wiggle_probability;
-  params.wiggle_variance_deg = spec.wiggle_variance_deg;
-  params.wiggle_length_m = 0.0;  // = a_c: the whole pattern scales with the growth length
-  params.seed = spec.seed ? *spec.seed : mix_seed(simulation.seed, index);
-  assert(!fracture::validate(params));
+  report.growth_length_m = pattern_plan.growth_length_m;
+  report.growth_length_given = pattern_plan.growth_length_given;
+  report.growth_length_clamped = pattern_plan.growth_length_clamped;
+  const fracture::FractureParams& params = pattern_plan.params;
   const fracture::FracturePattern pattern = fracture::fracture(params);
 
   report.first_body = static_cast<std::uint32_t>(out.size());
@@ -216,7 +176,7 @@ PaneReport break_pane(const scene::ObjectSpec& object, std::size_t index,
     body.blocks = false;  // the glass the wave itself breaks shields nothing behind it
     body.frontal_area_m2 = piece.area_m2;
     body.unit_mass = geometry::prism_mass_properties(local, thickness, 1.0);
-    fragment_panels(local, thickness, 0.5 * shorter, own_clearing, body);
+    fragment_panels(local, thickness, 0.5 * std::min(width, height), own_clearing, body);
     // The hold (docs/fracture.md): the crack faces' interlock over the crack's area, and the
     // glazing's grip along the frame.
     const double on_border = border_length(piece.polygon_m, width, height);

@@ -9,6 +9,9 @@
 #include <unistd.h>
 
 #include "cli/commands.hpp"
+#include "cli/text.hpp"
+#include "sim/engine/simulator.hpp"
+#include "sim/scene/scene.hpp"
 
 namespace brisance::cli {
 namespace {
@@ -97,6 +100,50 @@ TEST(FractureCommand, SvgHasOnePolygonPerFragment) {
   std::filesystem::remove(json_path);
 }
 
+TEST(FractureCommand, PreviewsThePatternAJobGrowsForTheSamePane) {
+  // A job breaks a 1.2 x 0.8 m, 6 mm pane 15 m from 10 kg TNT; the CLI given the pane's size,
+  // the peak pressure of the job's fracture report and the seed grows the same fragments.
+  const scene::ParseResult parsed = scene::parse_scene(nlohmann::json::parse(R"({
+    "charges": [{"position": [0, 1, -15], "mass": 10}],
+    "objects": [{"name": "pane", "shape": {"type": "box", "size": [1.2, 0.8, 0.006]},
+                 "position": [0, 1, 0], "material": "glass", "fracture": {"seed": 7}}],
+    "environment": {"ground": null, "gravity": [0, 0, 0]},
+    "simulation": {"duration": 0.0005}
+  })"));
+  ASSERT_TRUE(parsed.scene);
+  const engine::Result job = engine::simulate(*parsed.scene).result;
+  ASSERT_EQ(job.fracture.size(), 1u);
+  const engine::PaneReport& pane = job.fracture[0];
+  ASSERT_TRUE(pane.broken);
+  ASSERT_GT(pane.fragment_count, 10u);
+
+  const std::string path = temp_path("job_pane.json");
+  std::ostringstream out;
+  ASSERT_EQ(
+      run_fracture({"--width", "1.2", "--height", "0.8", "--thickness", "0.006", "--pressure-kpa",
+                    text::printf("%.17g", pane.peak_pressure_pa / 1e3), "--seed", "7", "-o", path},
+                   out),
+      kExitOk);
+  const nlohmann::json preview = nlohmann::json::parse(read(path));
+  EXPECT_EQ(preview["fragments"].size(), pane.fragment_count);
+  EXPECT_DOUBLE_EQ(preview["growth_length"].get<double>(), pane.growth_length_m);
+  EXPECT_NE(out.str().find("growth length"), std::string::npos) << out.str();
+  for (std::size_t k = 0; k < pane.fragment_count; ++k) {
+    const double area = preview["fragments"][k]["area"].get<double>();
+    EXPECT_NEAR(area, job.bodies[pane.first_body + k].mass_kg / (2500.0 * 0.006),
+                1e-9 + 1e-6 * area)
+        << "fragment " << k;
+  }
+  std::filesystem::remove(path);
+
+  // Without a pressure, the one that just breaks the pane: the coarsest pattern, fewer pieces.
+  ASSERT_EQ(run_fracture({"--width", "1.2", "--height", "0.8", "--seed", "7", "-o", path}, out),
+            kExitOk);
+  EXPECT_LT(nlohmann::json::parse(read(path))["fragments"].size(), pane.fragment_count);
+  EXPECT_NE(out.str().find("the pressure that just breaks it"), std::string::npos) << out.str();
+  std::filesystem::remove(path);
+}
+
 TEST(FractureCommand, BadInputIsOneClearMessage) {
   const std::string out = temp_path("x.svg");
   EXPECT_NE(usage_error({"--height", "1", "-o", out}).find("--width is required"),
@@ -116,9 +163,15 @@ TEST(FractureCommand, BadInputIsOneClearMessage) {
   EXPECT_NE(usage_error({"--width", "1", "--height", "1", "--wiggle-prob", "2", "-o", out})
                 .find("wiggle probability must be between 0 and 1"),
             std::string::npos);
-  EXPECT_NE(usage_error({"--width", "1", "--height", "1", "--grid", "64", "--growth-length",
-                         "0.001", "-o", out})
-                .find("refine the grid"),
+  EXPECT_NE(usage_error({"--width", "1", "--height", "1", "--pressure-kpa", "5", "--growth-length",
+                         "0.05", "-o", out})
+                .find("not both"),
+            std::string::npos);
+  EXPECT_NE(usage_error({"--width", "1", "--height", "1", "--thickness", "0", "-o", out})
+                .find("--thickness"),
+            std::string::npos);
+  EXPECT_NE(usage_error({"--width", "1", "--height", "1", "--pressure-kpa", "-3", "-o", out})
+                .find("--pressure-kpa must be greater than 0"),
             std::string::npos);
   EXPECT_NE(usage_error({"--width", "1", "--height", "1", "--branch-angle-deg", "abc", "-o", out})
                 .find("must be a number"),

@@ -1,0 +1,85 @@
+#include "sim/engine/pane_pattern.hpp"
+
+#include <algorithm>
+#include <cassert>
+#include <cmath>
+
+namespace brisance::engine {
+
+PanePattern pane_pattern(const scene::FractureSpec& spec, double width_m, double height_m,
+                         double thickness_m, double peak_pressure_pa, std::uint64_t seed) {
+  // The bit bucket's cell; forks closer than two cells cannot be told apart on the grid, and a
+  // growth length beyond half the pane gives no fork at all.
+  const double longer = std::max(width_m, height_m);
+  const double shorter = std::min(width_m, height_m);
+  const double cell = longer / spec.grid;
+  fracture::PaneFractureInput input;
+  input.width_m = width_m;
+  input.height_m = height_m;
+  input.thickness_m = thickness_m;
+  input.youngs_modulus_pa = spec.youngs_modulus_pa;
+  input.fracture_toughness_pa_sqrt_m = spec.fracture_toughness_pa_sqrt_m;
+  input.strength_pa = spec.strength_pa;
+  input.pressure_pa = peak_pressure_pa;
+  input.pattern_scale = spec.pattern_scale;
+  input.min_growth_length_m = 2.0 * cell;
+  input.max_growth_length_m = 0.5 * shorter;
+
+  PanePattern out;
+  out.response = fracture::pane_fracture(input);
+  out.forced = spec.trigger == scene::FractureSpec::Trigger::always && !out.response.breaks;
+  if (!out.response.breaks && !out.forced) return out;
+
+  // The pattern's growth length: given, or eq. 5.5's scaled (forced panes below any stress
+  // crack at the coarsest scale).
+  double growth = out.response.growth_length_m;
+  out.growth_length_clamped = out.response.clamped;
+  if (spec.growth_length_m) {
+    growth = std::clamp(*spec.growth_length_m, cell, input.max_growth_length_m);
+    out.growth_length_given = true;
+    out.growth_length_clamped = growth != *spec.growth_length_m;
+  } else if (!out.response.breaks) {
+    growth = input.max_growth_length_m;
+    out.growth_length_clamped = true;
+  }
+  out.growth_length_m = growth;
+
+  fracture::FractureParams& params = out.params;
+  params.width_m = width_m;
+  params.height_m = height_m;
+  const int cells_short = std::max(4, static_cast<int>(std::lround(spec.grid * shorter / longer)));
+  params.grid_x = width_m >= height_m ? spec.grid : cells_short;
+  params.grid_y = width_m >= height_m ? cells_short : spec.grid;
+  params.growth_length_m = growth;
+  // An X at the pane's centre, where a framed pane cracks first (thesis §5.4.1): four tips
+  // make an early death of the whole tree, which one segment's two tips can meet, unlikely.
+  params.initial.shape = fracture::InitialCrack::Shape::cross;
+  params.initial.length_m = std::min(2.0 * growth, 0.25 * shorter);
+  params.branch_angle_deg = spec.branch_angle_deg;
+  params.angle_variance_deg = spec.angle_variance_deg;
+  params.wiggle_probability = spec.wiggle_probability;
+  params.wiggle_variance_deg = spec.wiggle_variance_deg;
+  params.wiggle_length_m = 0.0;  // = a_c: the whole pattern scales with the growth length
+  params.seed = seed;
+  assert(!fracture::validate(params));
+  return out;
+}
+
+double breaking_pressure_pa(const scene::FractureSpec& spec, double width_m, double height_m,
+                            double thickness_m) {
+  scene::FractureSpec by_stress = spec;
+  by_stress.trigger = scene::FractureSpec::Trigger::automatic;
+  const auto breaks = [&](double pressure_pa) {
+    return pane_pattern(by_stress, width_m, height_m, thickness_m, pressure_pa, 1).response.breaks;
+  };
+  double low = 0.0, high = 1e3;
+  while (!breaks(high) && high < 1e12)
+    high *= 2.0;
+  while (high - low > 1e-3 * high) {
+    const double mid = 0.5 * (low + high);
+    (breaks(mid) ? high : low) = mid;
+  }
+  return high;
+}
+
+}  // namespace brisance::engine

@@ -15,6 +15,8 @@
 #include <Eigen/Geometry>
 #include <nlohmann/json.hpp>
 
+#include "sim/geometry/mesh.hpp"
+
 namespace brisance::io {
 
 namespace {
@@ -94,6 +96,30 @@ struct Accessor {
   json max;
 };
 
+// The world position of the point `pivot` (shape frame) of a body at `pose`.
+std::array<double, 3> pivot_position(const engine::Pose& pose, const geometry::Vec3& pivot) {
+  const Eigen::Quaterniond q(pose.orientation[3], pose.orientation[0], pose.orientation[1],
+                             pose.orientation[2]);
+  const geometry::Vec3 rotated =
+      (q.norm() > 0.0 ? q.normalized() : Eigen::Quaterniond::Identity()) * pivot;
+  return {pose.position[0] + rotated.x(), pose.position[1] + rotated.y(),
+          pose.position[2] + rotated.z()};
+}
+
+// Where a body's node sits in its shape frame: the centre of mass of its (closed) mesh, so that a
+// compositor's pivot, motion blur and rotation are about the piece itself (a fragment's shape
+// frame is its pane's centre). Mesh without volume: the mean of its vertices.
+geometry::Vec3 node_pivot(const geometry::TriangleMesh& mesh) {
+  if (mesh.triangles.empty()) return geometry::Vec3::Zero();
+  const geometry::MassProperties properties = geometry::mass_properties(mesh, 1.0);
+  if (properties.mass_kg > 0.0 && properties.centre_of_mass.allFinite())
+    return properties.centre_of_mass;
+  geometry::Vec3 sum = geometry::Vec3::Zero();
+  for (const geometry::Vec3& vertex : mesh.vertices)
+    sum += vertex;
+  return sum / static_cast<double>(mesh.vertices.size());
+}
+
 class GlbBuilder {
  public:
   GlbBuilder() {
@@ -106,11 +132,12 @@ class GlbBuilder {
   // The mesh of one body, flat shaded: every triangle gets its own three vertices carrying the
   // exact face normal (bodies are rigid polyhedra, so shared smoothed normals would be wrong).
   // Returns the glTF mesh index, or nullopt for a body without triangles.
-  std::optional<std::size_t> add_mesh(const engine::BodyInfo& body);
+  std::optional<std::size_t> add_mesh(const engine::BodyInfo& body, const geometry::Vec3& pivot);
 
   // The "blast" animation: a translation and a rotation channel per animated body, LINEAR,
   // sampled at the frame times. Needs at least one animated body and two frames.
-  void add_animation(const FrameSet& frames);
+  // `pivots[b]`: body b's node origin in its shape frame (its centre of mass).
+  void add_animation(const FrameSet& frames, const std::vector<geometry::Vec3>& pivots);
 
   std::vector<std::uint8_t> finish(json nodes, std::size_t node_count);
 
@@ -130,7 +157,8 @@ class GlbBuilder {
   json animations_ = json::array();
 };
 
-std::optional<std::size_t> GlbBuilder::add_mesh(const engine::BodyInfo& body) {
+std::optional<std::size_t> GlbBuilder::add_mesh(const engine::BodyInfo& body,
+                                                const geometry::Vec3& pivot) {
   const geometry::TriangleMesh& mesh = body.mesh;
   if (mesh.triangles.empty()) return std::nullopt;
   const std::size_t vertex_count = 3 * mesh.triangles.size();
@@ -157,7 +185,7 @@ std::optional<std::size_t> GlbBuilder::add_mesh(const engine::BodyInfo& body) {
                                                      : geometry::Vec3::UnitY();
     for (const geometry::Vec3* vertex : {&a, &b, &c}) {
       for (int axis = 0; axis < 3; ++axis) {
-        const float coordinate = static_cast<float>((*vertex)[axis]);
+        const float coordinate = static_cast<float>((*vertex)[axis] - pivot[axis]);
         min_f[axis] = std::min(min_f[axis], coordinate);
         max_f[axis] = std::max(max_f[axis], coordinate);
         append_f32(positions, coordinate);
@@ -219,7 +247,7 @@ std::size_t GlbBuilder::add_times_accessor(const std::vector<double>& times_s) {
                        json::array({first}), json::array({previous})});
 }
 
-void GlbBuilder::add_animation(const FrameSet& frames) {
+void GlbBuilder::add_animation(const FrameSet& frames, const std::vector<geometry::Vec3>& pivots) {
   const std::size_t frame_count = frames.frame_count();
   assert(!frames.bodies.empty() && frame_count >= 2);
   const std::size_t times_accessor = add_times_accessor(frames.times_s);
@@ -233,10 +261,11 @@ void GlbBuilder::add_animation(const FrameSet& frames) {
         {View::kTranslations, translations.size(), kComponentFloat, frame_count, "VEC3", {}, {}});
     const std::size_t rotation_accessor = add_accessor(
         {View::kRotations, rotations.size(), kComponentFloat, frame_count, "VEC4", {}, {}});
+    const geometry::Vec3& pivot = pivots[frames.bodies[k]];
     std::array<double, 4> previous{0.0, 0.0, 0.0, 1.0};
     for (std::size_t f = 0; f < frame_count; ++f) {
       const engine::Pose& pose = frames.pose(f, k);
-      for (const double coordinate : pose.position)
+      for (const double coordinate : pivot_position(pose, pivot))
         append_f32(translations, static_cast<float>(coordinate));
       // q and -q are the same rotation, but LINEAR (slerp) interpolation between samples of
       // opposite sign turns the long way round: keep each sample in the previous one's half.
@@ -383,16 +412,21 @@ std::vector<std::uint8_t> to_glb(std::span<const engine::BodyInfo> bodies, const
 #endif
 
   GlbBuilder builder;
-  // One node per body, node i for body i, placed at the body's initial pose.
+  // One node per body, node i for body i, placed at the body's initial pose with its origin at
+  // the body's centre of mass (the mesh is shifted to match).
   json nodes = json::array();
+  std::vector<geometry::Vec3> pivots;
+  pivots.reserve(bodies.size());
   for (const engine::BodyInfo& body : bodies) {
+    pivots.push_back(node_pivot(body.mesh));
     json node = {{"name", body.name},
-                 {"translation", body.initial_pose.position},
+                 {"translation", pivot_position(body.initial_pose, pivots.back())},
                  {"rotation", normalized(body.initial_pose.orientation)}};
-    if (const std::optional<std::size_t> mesh = builder.add_mesh(body)) node["mesh"] = *mesh;
+    if (const std::optional<std::size_t> mesh = builder.add_mesh(body, pivots.back()))
+      node["mesh"] = *mesh;
     nodes.push_back(std::move(node));
   }
-  if (!frames.bodies.empty() && frames.frame_count() >= 2) builder.add_animation(frames);
+  if (!frames.bodies.empty() && frames.frame_count() >= 2) builder.add_animation(frames, pivots);
   return builder.finish(std::move(nodes), bodies.size());
 }
 

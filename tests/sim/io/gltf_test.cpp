@@ -231,6 +231,55 @@ TEST(Glb, MeshesAreFlatShadedWithExactBoundsAndFaceNormals) {
   }
 }
 
+TEST(Glb, NodesPivotAtTheirBodysCentreOfMassWithoutMovingAnything) {
+  // A fragment's shape frame is its pane's centre: here a box whose centre of mass lies at c
+  // in its shape frame, turned, and animated. Its node must sit at the centre of mass, and every
+  // vertex must still land where the body puts it, at the start and in every frame.
+  const geometry::Vec3 c(0.4, -0.3, 0.05);
+  engine::Result result = synthetic_result();
+  engine::BodyInfo& window = result.bodies[3];
+  for (geometry::Vec3& vertex : window.mesh.vertices)
+    vertex += c;
+  const Glb glb = parsed(result);
+  const auto rotation = [](const std::array<double, 4>& q) -> Eigen::Quaterniond {
+    return Eigen::Quaterniond(q[3], q[0], q[1], q[2]).normalized();
+  };
+  const auto world = [&](const engine::Pose& pose, const geometry::Vec3& local) -> geometry::Vec3 {
+    return geometry::Vec3(pose.position[0], pose.position[1], pose.position[2]) +
+           rotation(pose.orientation) * local;
+  };
+  const json& node = glb.gltf["nodes"][3];
+  const geometry::Vec3 com = world(window.initial_pose, c);
+  for (int axis = 0; axis < 3; ++axis)
+    EXPECT_NEAR(node["translation"][axis].get<double>(), com[axis], 1e-12);
+  // The mesh is stored about its centre of mass: a box's bounds are symmetric.
+  const json& primitive = glb.gltf["meshes"][3]["primitives"][0];
+  const std::size_t position = primitive["attributes"]["POSITION"];
+  const json& accessor = glb.gltf["accessors"][position];
+  for (int axis = 0; axis < 3; ++axis)
+    EXPECT_NEAR(accessor["min"][axis].get<double>(), -accessor["max"][axis].get<double>(), 1e-6);
+  // Every frame's translation sample is the centre of mass at that pose (window is slot 0).
+  const json& animation = glb.gltf["animations"][0];
+  std::size_t output = 0;
+  for (const json& channel : animation["channels"])
+    if (channel["target"]["node"] == 3 && channel["target"]["path"] == "translation")
+      output = animation["samplers"][channel["sampler"].get<std::size_t>()]["output"];
+  for (std::size_t f = 0; f < result.frame_times_s.size(); ++f) {
+    const geometry::Vec3 expected = world(result.pose(f, 0), c);
+    for (std::size_t axis = 0; axis < 3; ++axis)
+      EXPECT_NEAR(accessor_float(glb, output, f, axis), expected[static_cast<int>(axis)], 1e-6)
+          << "frame " << f;
+  }
+  // A vertex placed by the node (translation + rotation of the stored, shifted vertex) is where
+  // the body's pose puts the original one.
+  const geometry::Vec3& original = window.mesh.vertices[window.mesh.triangles[0][0]];
+  const geometry::Vec3 stored(accessor_float(glb, position, 0, 0),
+                              accessor_float(glb, position, 0, 1),
+                              accessor_float(glb, position, 0, 2));
+  const geometry::Vec3 placed = com + rotation(window.initial_pose.orientation) * stored;
+  EXPECT_NEAR((placed - world(window.initial_pose, original)).norm(), 0.0, 1e-6);
+}
+
 TEST(Glb, IndicesAreSixteenBitUpTo65535VerticesAndThirtyTwoBitBeyond) {
   engine::Result result;
   for (const std::size_t triangles : {std::size_t{21845}, std::size_t{21846}}) {

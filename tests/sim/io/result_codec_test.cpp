@@ -78,7 +78,8 @@ TEST(ResultCodec, SummaryIsPinned) {
             "never_released\":0"
             ",\"bodies_slept\":0,\"bodies_static_in_frames\":1,\"body_steps\":40,\"collision_pai"
             "rs\":0,\"collision_pairs_skipped\":0,\"contact_points\":0,\"ended_early\":"
-            "false,\"fragments\":0,\"occlusion_skipped\":true,\"panels\":7,\"panels_back_facing\""
+            "false,\"fragments\":0,\"fragments_held_by_frame\":0,\"occlusion_skipped\":true,"
+            "\"panels\":7,\"panels_back_facing\""
             ":0,\"panels_loaded\":1,\"panels_not_reached\":0,\"panels_shielded\":0,\"panes_broken"
             "\":0,\"panes_not_broke"
             "n\":0,\"simulated_time_s\":0.5,\"steps\":40,\"wall_time_s\":0.125},\"warnings\":[{\""
@@ -111,36 +112,39 @@ TEST(ResultCodec, GlbIsPinned) {
   const std::size_t json_length = header[3];
   ASSERT_LE(20 + json_length + 8, glb.size());
   const std::string json_chunk(reinterpret_cast<const char*>(glb.data()) + 20, json_length);
-  EXPECT_EQ(json_chunk,
-            "{\"accessors\":[{\"bufferView\":0,\"byteOffset\":0,\"componentType\":5126,\"count\":"
-            "3,\"max\":[1.0,0.5,0.0],\"min\":[0.0,0.0,0.0],\"type\":\"VEC3\"},{\"bufferView\":1,\""
-            "byteOffset\":0,\"componentType\":5126,\"count\":3,\"type\":\"VEC3\"},{\"bufferView\""
-            ":2,\"byteOffset\":0,\"componentType\":5123,\"count\":3,\"type\":\"SCALAR\"},{\"buffe"
-            "rView\":3,\"byteOffset\":0,\"componentType\":5126,\"count\":2,\"max\":[0.5],\"min\":"
-            "[0.0],\"type\":\"SCALAR\"},{\"bufferView\":4,\"byteOffset\":0,\"componentType\":5126"
-            ",\"count\":2,\"type\":\"VEC3\"},{\"bufferView\":5,\"byteOffset\":0,\"componentType\""
-            ":5126,\"count\":2,\"type\":\"VEC4\"}],\"animations\":[{\"channels\":[{\"sampler\":0,"
-            "\"target\":{\"node\":0,\"path\":\"translation\"}},{\"sampler\":1,\"target\":{\"node\""
-            ":0,\"path\":\"rotation\"}}],\"name\":\"blast\",\"samplers\":[{\"input\":3,\"interpol"
-            "ation\":\"LINEAR\",\"output\":4},{\"input\":3,\"interpolation\":\"LINEAR\",\"output\""
-            ":5}]}],\"asset\":{\"generator\":\"Brisance\",\"version\":\"2.0\"},\"bufferViews\":[{"
-            "\"buffer\":0,\"byteLength\":36,\"byteOffset\":0,\"byteStride\":12,\"target\":34962},"
-            "{\"buffer\":0,\"byteLength\":36,\"byteOffset\":36,\"byteStride\":12,\"target\":34962"
-            "},{\"buffer\":0,\"byteLength\":6,\"byteOffset\":72,\"target\":34963},{\"buffer\":0,\""
-            "byteLength\":8,\"byteOffset\":80},{\"buffer\":0,\"byteLength\":24,\"byteOffset\":88}"
-            ",{\"buffer\":0,\"byteLength\":32,\"byteOffset\":112}],\"buffers\":[{\"byteLength\":1"
-            "44}],\"materials\":[{\"name\":\"default\",\"pbrMetallicRoughness\":{\"baseColorFacto"
-            "r\":[0.72,0.72,0.7,1.0],\"metallicFactor\":0.0,\"roughnessFactor\":0.8}}],\"meshes\""
-            ":[{\"name\":\"shard\",\"primitives\":[{\"attributes\":{\"NORMAL\":1,\"POSITION\":0},"
-            "\"indices\":2,\"material\":0,\"mode\":4}]}],\"nodes\":[{\"mesh\":0,\"name\":\"shard\""
-            ",\"rotation\":[0.0,0.0,0.0,1.0],\"translation\":[0.0,1.0,2.0]},{\"name\":\"marker\","
-            "\"rotation\":[0.0,0.0,1.0,0.0],\"translation\":[-1.0,0.0,0.25]}],\"scene\":0,\"scene"
-            "s\":[{\"nodes\":[0,1]}]} ");
+  // The shard's node sits at its centre of mass (the triangle's centroid, 1/3 and 1/6 along x
+  // and y from its shape origin at (0, 1, 2)); its vertices and samples are shifted to match.
+  EXPECT_EQ(
+      json_chunk,
+      "{\"accessors\":[{\"bufferView\":0,\"byteOffset\":0,\"componentType\":5126,\"count\":3,"
+      "\"max\":[0.6666666865348816,0.3333333432674408,0.0],\"min\":[-0.3333333432674408,-0.16"
+      "66666716337204,0.0],\"type\":\"VEC3\"},{\"bufferView\":1,\"byteOffset\":0,\"componentT"
+      "ype\":5126,\"count\":3,\"type\":\"VEC3\"},{\"bufferView\":2,\"byteOffset\":0,\"compone"
+      "ntType\":5123,\"count\":3,\"type\":\"SCALAR\"},{\"bufferView\":3,\"byteOffset\":0,\"co"
+      "mponentType\":5126,\"count\":2,\"max\":[0.5],\"min\":[0.0],\"type\":\"SCALAR\"},{\"buf"
+      "ferView\":4,\"byteOffset\":0,\"componentType\":5126,\"count\":2,\"type\":\"VEC3\"},{\""
+      "bufferView\":5,\"byteOffset\":0,\"componentType\":5126,\"count\":2,\"type\":\"VEC4\"}]"
+      ",\"animations\":[{\"channels\":[{\"sampler\":0,\"target\":{\"node\":0,\"path\":\"trans"
+      "lation\"}},{\"sampler\":1,\"target\":{\"node\":0,\"path\":\"rotation\"}}],\"name\":\"b"
+      "last\",\"samplers\":[{\"input\":3,\"interpolation\":\"LINEAR\",\"output\":4},{\"input\""
+      ":3,\"interpolation\":\"LINEAR\",\"output\":5}]}],\"asset\":{\"generator\":\"Brisance\""
+      ",\"version\":\"2.0\"},\"bufferViews\":[{\"buffer\":0,\"byteLength\":36,\"byteOffset\":"
+      "0,\"byteStride\":12,\"target\":34962},{\"buffer\":0,\"byteLength\":36,\"byteOffset\":3"
+      "6,\"byteStride\":12,\"target\":34962},{\"buffer\":0,\"byteLength\":6,\"byteOffset\":72"
+      ",\"target\":34963},{\"buffer\":0,\"byteLength\":8,\"byteOffset\":80},{\"buffer\":0,\"b"
+      "yteLength\":24,\"byteOffset\":88},{\"buffer\":0,\"byteLength\":32,\"byteOffset\":112}]"
+      ",\"buffers\":[{\"byteLength\":144}],\"materials\":[{\"name\":\"default\",\"pbrMetallic"
+      "Roughness\":{\"baseColorFactor\":[0.72,0.72,0.7,1.0],\"metallicFactor\":0.0,\"roughnes"
+      "sFactor\":0.8}}],\"meshes\":[{\"name\":\"shard\",\"primitives\":[{\"attributes\":{\"NO"
+      "RMAL\":1,\"POSITION\":0},\"indices\":2,\"material\":0,\"mode\":4}]}],\"nodes\":[{\"mes"
+      "h\":0,\"name\":\"shard\",\"rotation\":[0.0,0.0,0.0,1.0],\"translation\":[0.33333333333"
+      "33333,1.1666666666666667,2.0]},{\"name\":\"marker\",\"rotation\":[0.0,0.0,1.0,0.0],\"t"
+      "ranslation\":[-1.0,0.0,0.25]}],\"scene\":0,\"scenes\":[{\"nodes\":[0,1]}]} ");
   const std::size_t bin = 20 + json_length;
   EXPECT_EQ(hex(glb.data() + bin, glb.size() - bin),
-            "9000000042494e000000000000000000000000000000803f0000000000000000000000000000003f"
+            "9000000042494e00abaaaabeabaa2abe00000000abaa2a3fabaa2abe00000000abaaaabeabaaaa3e"
             "0000000000000000000000000000803f00000000000000000000803f00000000000000000000803f"
-            "0000010002000000000000000000003f000000000000803f00000040000000000000c03f00000040"
+            "0000010002000000000000000000003fabaaaa3e5555953f0000004000000000abaaea3fabaa0a40"
             "0000000000000000000000000000803f0000003f0000003f0000003f0000003f");
 }
 

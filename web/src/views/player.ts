@@ -1,11 +1,12 @@
 // #/jobs/ID/player: the finished job's animated glTF (result.glb, fetched with the key header)
-// in three.js: play / pause / scrub, an orbit camera that frames the bodies and charges at the
-// start and follows the debris, a ground grid and the charges of the job's scene as small red
-// spheres. Thin fragments are drawn from both sides; broken panes' fragments can be coloured by
-// their release time or their speed at the end, with a legend. This module and three.js form
-// their own chunk.
+// in three.js: play / pause / scrub / step a frame, an orbit camera that frames the bodies that
+// move (the whole scene with "Frame all") and follows the debris, the ground (a floor and a grid,
+// only a grid when the scene has no ground) and the charges of the job's scene as small red
+// spheres. Clicking a body shows its name, mass and speed. Thin fragments are drawn from both
+// sides; broken panes' fragments can be coloured by their release time or their speed at the
+// end, with a legend. This module and three.js form their own chunk.
 import {
-  AnimationMixer, Box3, LoopOnce, Color, DirectionalLight, DoubleSide, GridHelper, HemisphereLight, type Material,
+  AnimationMixer, Box3, LoopOnce, Color, Raycaster, Vector2, VectorKeyframeTrack, DirectionalLight, DoubleSide, GridHelper, HemisphereLight, type Material,
   Mesh, MeshStandardMaterial, type Object3D, PerspectiveCamera, PlaneGeometry, PropertyBinding, Scene as ThreeScene,
   SphereGeometry, Vector3, WebGLRenderer,
 } from "three";
@@ -116,7 +117,7 @@ export const playerView: View = async (root, route, signal) => {
     h("option", { value: "speed" }, "Colour: speed at the end"));
   colour(broken ? "release" : "body");
 
-  // The bodies and the charges as they stand at the start frame the view.
+  // Everything at the start (bodies and charges) sizes the ground and the "Frame all" view.
   const bounds = new Box3().setFromObject(gltf.scene);
   const chargeMaterial = new MeshStandardMaterial({ color: 0xff2a1a, emissive: 0xa00000, roughness: 0.4 });
   for (const charge of scene.charges) {
@@ -137,11 +138,17 @@ export const playerView: View = async (root, route, signal) => {
   const step = 10 ** Math.round(Math.log10(extent / 5));
   const divisions = 2 * Math.ceil((2 * extent) / step);
   const gridSize = divisions * step;
-  const plane = new Mesh(new PlaneGeometry(gridSize * 4, gridSize * 4),
-                         new MeshStandardMaterial({ color: 0x2b3846, roughness: 1 }));
-  plane.rotation.x = -Math.PI / 2;
-  plane.position.set(centre.x, groundY - extent / 500, centre.z);
-  world.add(plane);
+  // Without a ground in the scene there is no floor to hide what falls: only the grid, below
+  // everything, as a reference.
+  stage.dataset.floor = ground === null ? "none" : "plane";
+  if (ground !== null) {
+    const plane = new Mesh(new PlaneGeometry(gridSize * 4, gridSize * 4),
+                           new MeshStandardMaterial({ color: 0x2b3846, roughness: 1 }));
+    plane.name = "floor";
+    plane.rotation.x = -Math.PI / 2;
+    plane.position.set(centre.x, groundY - extent / 500, centre.z);
+    world.add(plane);
+  }
   const grid = new GridHelper(gridSize, divisions, 0xc5d0dc, 0x71839a);
   grid.position.set(centre.x, groundY, centre.z);
   world.add(grid);
@@ -149,12 +156,18 @@ export const playerView: View = async (root, route, signal) => {
   // ---- renderer, camera, controls
   const renderer = new WebGLRenderer({ antialias: true });
   renderer.setPixelRatio(Math.min(window.devicePixelRatio, 2));
-  const camera = new PerspectiveCamera(45, 16 / 9, extent / 100, extent * 100);
-  camera.position.copy(centre).add(new Vector3(0.9, 0.55, 1.1).normalize().multiplyScalar(extent * 1.5));
+  const camera = new PerspectiveCamera(45, 16 / 9, extent / 1000, extent * 100);
   const controls = new OrbitControls(camera, renderer.domElement);
-  controls.target.copy(centre);
   controls.enableDamping = true;
-  controls.update();
+  // Looks at `box` from the usual three-quarter view, far enough to see all of it.
+  const frameBox = (box: Box3) => {
+    const boxCentre = box.getCenter(new Vector3());
+    const boxSize = box.getSize(new Vector3());
+    const reach = Math.max(boxSize.x, boxSize.y, boxSize.z, extent / 200, 0.05);
+    camera.position.copy(boxCentre).add(new Vector3(0.9, 0.55, 1.1).normalize().multiplyScalar(reach * 1.6));
+    controls.target.copy(boxCentre);
+    controls.update();
+  };
 
   // ---- the animation: one clip "blast" of the moving bodies
   const mixer = new AnimationMixer(gltf.scene);
@@ -167,12 +180,15 @@ export const playerView: View = async (root, route, signal) => {
   const duration = Math.max(0, ...gltf.animations.map((clip) => clip.duration));
   let time = 0;
   let playing = duration > 0;
+  let refreshInfo = (): void => {};  // the clicked body's panel, once there is one
   const showTime = (t: number) => {
     time = Math.min(Math.max(t, 0), duration);
     for (const action of actions) action.reset().play();  // reset: a clamped finished action stays usable
     mixer.setTime(time);
     scrub.value = String(time);
     timeLabel.textContent = `${time.toFixed(3)} s / ${duration.toFixed(3)} s`;
+    stage.dataset.time = String(time);
+    refreshInfo();
   };
 
   const play = h("button", { type: "button", id: "play-pause", class: "primary", disabled: duration === 0,
@@ -182,19 +198,104 @@ export const playerView: View = async (root, route, signal) => {
                              "aria-label": "Time", disabled: duration === 0,
                              oninput: () => { playing = false; syncButton(); showTime(Number(scrub.value)); } });
   const timeLabel = h("span", { class: "time", id: "time-label" });
+  // One stored frame: the result's frames are equally spaced from 0 to the duration.
+  const frameStep = result.frame_count > 1 ? duration / (result.frame_count - 1) : 0;
+  const stepBy = (frames: number) => {
+    playing = false;
+    syncButton();
+    showTime(Math.round(time / frameStep + frames) * frameStep);
+  };
+  const back = h("button", { type: "button", id: "step-back", title: "One frame back (,)", disabled: duration === 0,
+                             onclick: () => stepBy(-1) }, "◀");
+  const forward = h("button", { type: "button", id: "step-forward", title: "One frame on (.)", disabled: duration === 0,
+                                onclick: () => stepBy(1) }, "▶");
+  const onKey = (e: KeyboardEvent) => {
+    if (e.target instanceof HTMLInputElement || e.target instanceof HTMLSelectElement) return;
+    if (e.key === "," || e.key === ".") stepBy(e.key === "," ? -1 : 1);
+  };
+  if (frameStep > 0) window.addEventListener("keydown", onKey);
   const speed = h("select", { id: "speed", "aria-label": "Speed" },
     [0.1, 0.25, 0.5, 1].map((v) => h("option", { value: v, selected: v === 0.25 }, `${v}×`)));
   const follow = h("input", { type: "checkbox", id: "follow-debris", checked: duration > 0 });
+  const frameAll = h("button", { type: "button", id: "frame-all", title: "Show every body and charge",
+                                 onclick: () => { follow.checked = false; frameBox(bounds); } }, "Frame all");
+  const info = h("div", { class: "body-info", id: "body-info", hidden: true, role: "status" });
   syncButton();
   mount(stage, renderer.domElement,
-    h("div", { class: "player-controls" }, play, scrub, timeLabel, speed, colourBy,
-      h("label", null, follow, " Follow the debris")),
-    legend);
+    h("div", { class: "player-controls" }, play, back, forward, scrub, timeLabel, speed, colourBy,
+      h("label", null, follow, " Follow the debris"), frameAll),
+    legend, info);
   renderer.domElement.id = "player-canvas";
   const bodies = gltf.scene.children.length;
   status.textContent = `${bodies} bodies, ${scene.charges.length} charge(s) (red); ` +
     (duration > 0 ? `${duration.toFixed(2)} s of motion. Drag to orbit, scroll to zoom.` : "nothing moves.");
+  // The first view: the bodies that move, over the whole run (where they start and where they
+  // end), not a charge many metres away; the whole scene when nothing moves.
+  const moving = result.animated.flatMap((b) => meshesOf[b] ?? []);
+  const movingBox = (): Box3 => {
+    const box = new Box3();
+    for (const mesh of moving) box.expandByObject(mesh);
+    return box;
+  };
+  if (moving.length > 0 && duration > 0) {
+    showTime(duration);
+    const box = movingBox();
+    showTime(0);
+    box.union(movingBox());
+    frameBox(box);
+    // Without a ground, the reference grid goes below everything the run shows, not across it.
+    if (ground === null) grid.position.y = Math.min(grid.position.y, box.min.y);
+  } else {
+    frameBox(bounds);
+  }
   showTime(0);
+
+  // Clicking a body: its name, mass and speed at this time (from the animation's translation
+  // samples, which follow its centre of mass) and at the end of the run.
+  const bodyOfMesh = new Map<Object3D, number>();
+  meshesOf.forEach((meshes, b) => meshes.forEach((mesh) => bodyOfMesh.set(mesh, b)));
+  const tracks = new Map<string, VectorKeyframeTrack>();
+  for (const clip of gltf.animations)
+    for (const track of clip.tracks)
+      if (track.name.endsWith(".position") && track instanceof VectorKeyframeTrack)
+        tracks.set(track.name.slice(0, -".position".length), track);
+  const speedAt = (b: number, t: number): number => {
+    const track = tracks.get(PropertyBinding.sanitizeNodeName(result.bodies[b]?.name ?? ""));
+    if (!track || track.times.length < 2) return 0;
+    let i = 0;
+    while (i < track.times.length - 2 && (track.times[i + 1] ?? 0) <= t) i++;
+    const dt = (track.times[i + 1] ?? 0) - (track.times[i] ?? 0);
+    if (!(dt > 0)) return 0;
+    const v = [0, 1, 2].map((c) => ((track.values[3 * (i + 1) + c] ?? 0) - (track.values[3 * i + c] ?? 0)) / dt);
+    return Math.hypot(...v);
+  };
+  let picked: number | null = null;
+  const showInfo = () => {
+    if (picked === null) { info.hidden = true; return; }
+    const body = result.bodies[picked];
+    const end = result.final_state[picked];
+    if (!body) return;
+    mount(info, h("strong", { class: "body-name" }, body.name),
+      h("span", null, `mass ${body.mass.toPrecision(3)} kg`),
+      h("span", { class: "body-speed" }, body.animated
+        ? `${speedAt(picked, time).toFixed(2)} m/s over the frame from ${time.toFixed(3)} s` : "does not move"),
+      end && body.animated ? h("span", null, `${Math.hypot(...end.linear_velocity).toFixed(2)} m/s at the end`) : null);
+    info.hidden = false;
+  };
+  refreshInfo = showInfo;
+  const raycaster = new Raycaster();
+  let pressedAt: [number, number] | null = null;
+  renderer.domElement.addEventListener("pointerdown", (e) => { pressedAt = [e.clientX, e.clientY]; });
+  renderer.domElement.addEventListener("pointerup", (e) => {
+    // A click, not the end of an orbit drag.
+    if (!pressedAt || Math.hypot(e.clientX - pressedAt[0], e.clientY - pressedAt[1]) > 4) return;
+    const rect = renderer.domElement.getBoundingClientRect();
+    raycaster.setFromCamera(new Vector2(((e.clientX - rect.left) / rect.width) * 2 - 1,
+                                        -((e.clientY - rect.top) / rect.height) * 2 + 1), camera);
+    const hit = raycaster.intersectObjects([...bodyOfMesh.keys()], false)[0];
+    picked = hit ? bodyOfMesh.get(hit.object) ?? null : null;
+    showInfo();
+  });
 
   const resize = () => {
     const width = stage.clientWidth || 800;
@@ -209,7 +310,6 @@ export const playerView: View = async (root, route, signal) => {
 
   // Following the debris: the view's target eases towards the centre of the bodies that move,
   // and the camera keeps its offset from the target (the user still orbits and zooms).
-  const moving = result.animated.flatMap((b) => meshesOf[b] ?? []);
   const movingBounds = new Box3();
   const movingCentre = new Vector3();
   const followDebris = () => {
@@ -242,6 +342,7 @@ export const playerView: View = async (root, route, signal) => {
 
   signal.addEventListener("abort", () => {
     cancelAnimationFrame(handle);
+    window.removeEventListener("keydown", onKey);
     observer.disconnect();
     controls.dispose();
     mixer.stopAllAction();

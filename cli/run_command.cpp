@@ -20,12 +20,14 @@ namespace brisance::cli {
 namespace {
 
 constexpr std::string_view kRunHelp =
-    "usage: brisance run SCENE.json -o OUT.glb|OUT.json|OUT.brf [--progress]\n"
+    "usage: brisance run SCENE.json -o OUT.glb|OUT.json|OUT.brf [--frame-velocities] [--progress]\n"
     "\n"
     "Simulates a scene and writes the result: binary glTF (.glb) with one animated node per\n"
     "body, JSON with bodies, frames, final states, stats and warnings, or the frames alone as\n"
     "BRF1 binary frames (.brf; the bytes of GET /v1/jobs/{id}/frames as octet-stream).\n"
     "  -o, --output FILE   where to write; the extension picks the format\n"
+    "  --frame-velocities  .json only: each pose of the frames also gets its linear and angular\n"
+    "                      velocity (for motion blur; as GET .../frames?velocities=true)\n"
     "  --progress          a progress bar on stderr (shown once a run takes over a second)\n";
 
 constexpr std::string_view kValidateHelp =
@@ -96,7 +98,8 @@ class ProgressBar {
 enum class Format { glb, json, brf };
 
 // Writes through a temporary file and a rename, so a failed run never leaves half a result.
-void write_output(const std::filesystem::path& path, Format format, const engine::Result& result) {
+void write_output(const std::filesystem::path& path, Format format, const engine::Result& result,
+                  bool frame_velocities) {
   std::filesystem::path temporary = path;
   temporary += ".partial";
   {
@@ -107,7 +110,7 @@ void write_output(const std::filesystem::path& path, Format format, const engine
         io::write_glb(result, out);
         break;
       case Format::json:
-        io::write_result_json(result, out);
+        io::write_result_json(result, out, frame_velocities);
         break;
       case Format::brf:
         io::write_brf1(io::frames_of(result), out);
@@ -123,7 +126,10 @@ void write_output(const std::filesystem::path& path, Format format, const engine
 
 int run_simulation(const Args& args, std::ostream& out) {
   const ParsedFlags flags("run", args,
-                          {{"output", true, "o"}, {"progress", false}, {"help", false, "h"}});
+                          {{"output", true, "o"},
+                           {"progress", false},
+                           {"frame-velocities", false},
+                           {"help", false, "h"}});
   if (flags.has("help")) {
     out << kRunHelp;
     return kExitOk;
@@ -141,6 +147,9 @@ int run_simulation(const Args& args, std::ostream& out) {
   } else if (extension != ".json") {
     flags.fail("the output must end in .glb, .json or .brf, got '" + std::string(*output) + "'");
   }
+  const bool frame_velocities = flags.has("frame-velocities");
+  if (frame_velocities && format != Format::json)
+    flags.fail("--frame-velocities needs a .json output (BRF1 frames and .glb hold poses only)");
   if (output_path.has_parent_path() && !std::filesystem::is_directory(output_path.parent_path()))
     flags.fail("the output folder '" + output_path.parent_path().string() + "' does not exist");
 
@@ -151,7 +160,7 @@ int run_simulation(const Args& args, std::ostream& out) {
   const engine::RunOutcome outcome = engine::simulate(scene, hooks);
   bar.finish();
   const engine::Result& result = outcome.result;
-  write_output(output_path, format, result);
+  write_output(output_path, format, result, frame_velocities);
   const engine::Stats& s = result.stats;
   out << text::printf(
       "%s: %.3g s simulated in %.3g s (%llu steps); %llu bodies, %zu moved, %llu never "

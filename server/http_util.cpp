@@ -45,6 +45,14 @@ std::optional<Target> parse_target(std::string_view text) {
   return target;
 }
 
+bool boolean_param(const Target& t, std::string_view name, bool fallback) {
+  const auto text = t.get(name);
+  if (!text) return fallback;
+  if (*text == "true") return true;
+  if (*text == "false") return false;
+  throw BadParameter{std::string(name), "'" + std::string(name) + "' must be true or false"};
+}
+
 std::int64_t integer_param(const Target& t, std::string_view name, std::int64_t fallback,
                            std::int64_t lo, std::int64_t hi) {
   const auto text = t.get(name);

@@ -32,6 +32,8 @@ std::optional<Target> parse_target(std::string_view target);
 std::int64_t integer_param(const Target& t, std::string_view name, std::int64_t fallback,
                            std::int64_t lo, std::int64_t hi);
 std::optional<double> number_param(const Target& t, std::string_view name);
+// "true" or "false" (absent: `fallback`).
+bool boolean_param(const Target& t, std::string_view name, bool fallback);
 
 // A strong ETag from the representation itself, for lists and the queue view.
 std::string body_etag(std::string_view body);

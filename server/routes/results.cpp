@@ -1,5 +1,6 @@
 // server/routes/results: a succeeded job's results — GET /v1/jobs/{id}/result (the summary),
 // /frames (JSON or the BRF1 binary layout of api/openapi.yaml), /meshes and /result.glb.
+#include <algorithm>
 #include <bit>
 #include <charconv>
 #include <cstring>
@@ -96,8 +97,14 @@ HttpResponse job_frames(const Context& c) {
   const std::vector<std::uint32_t> bodies =
       c.target.get("bodies") ? parse_body_list(c.target, layout->body_count()) : layout->animated;
   const std::string_view accept = c.request.header("accept");
+  const bool velocities = boolean_param(c.target, "velocities", false);
   HttpResponse r;
   if (accept.find("application/octet-stream") != std::string_view::npos) {
+    if (velocities) {
+      throw BadParameter{"velocities",
+                         "velocities are part of the JSON frames only; BRF1 frames hold poses (ask "
+                         "for application/json, or difference the poses)"};
+    }
     r.content_type = "application/octet-stream";
     r.body = io::frames_to_brf1(c.service.result_frame_set(c.id, *layout, from, to, bodies));
   } else if (!accept.empty() && accept.find("json") == std::string_view::npos &&
@@ -105,6 +112,14 @@ HttpResponse job_frames(const Context& c) {
     r = problem(406, "not-acceptable", "Not acceptable",
                 "frames are served as application/json or application/octet-stream")
             .response();
+  } else if (velocities) {
+    // Each frame's velocity takes its neighbours: one more frame on each side the page has.
+    const std::int64_t lo = std::max<std::int64_t>(0, from - 1);
+    const std::int64_t hi = std::min<std::int64_t>(layout->frame_count, to + 1);
+    io::FrameSet frames = io::with_velocities(
+        c.service.result_frame_set(c.id, *layout, lo, hi, bodies),
+        static_cast<std::size_t>(from - lo), static_cast<std::size_t>(hi - to));
+    r.body = io::frames_document_json(frames, static_cast<std::uint64_t>(layout->frame_count));
   } else {
     r.body = io::frames_document_json(c.service.result_frame_set(c.id, *layout, from, to, bodies),
                                       static_cast<std::uint64_t>(layout->frame_count));

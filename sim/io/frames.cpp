@@ -3,11 +3,13 @@
 #include <algorithm>
 #include <bit>
 #include <cassert>
+#include <cmath>
 #include <cstring>
 #include <ostream>
 #include <sstream>
 #include <string_view>
 
+#include <Eigen/Geometry>
 #include <nlohmann/json.hpp>
 
 namespace brisance::io {
@@ -64,14 +66,65 @@ FrameSet frames_of(const engine::Result& result) {
   return frames;
 }
 
+FrameSet with_velocities(FrameSet frames, std::size_t margin_before, std::size_t margin_after) {
+  const std::size_t count = frames.frame_count();
+  const std::size_t slots = frames.bodies.size();
+  assert(frames.poses.size() == count * slots);
+  assert(margin_before + margin_after <= count);
+  const auto quaternion = [](const engine::Pose& pose) {
+    return Eigen::Quaterniond(pose.orientation[3], pose.orientation[0], pose.orientation[1],
+                              pose.orientation[2])
+        .normalized();
+  };
+  frames.velocities.assign(count * slots, Twist{});
+  for (std::size_t f = 0; f < count && count > 1; ++f) {
+    const std::size_t before = f == 0 ? 0 : f - 1;
+    const std::size_t after = f + 1 == count ? f : f + 1;
+    const double dt = frames.times_s[after] - frames.times_s[before];
+    if (!(dt > 0.0)) continue;
+    for (std::size_t k = 0; k < slots; ++k) {
+      const engine::Pose& a = frames.pose(before, k);
+      const engine::Pose& b = frames.pose(after, k);
+      Twist& twist = frames.velocities[f * slots + k];
+      for (int c = 0; c < 3; ++c)
+        twist.linear_m_s[c] = (b.position[c] - a.position[c]) / dt;
+      // The shorter way round: q and -q are one rotation.
+      Eigen::Quaterniond turn = quaternion(b) * quaternion(a).conjugate();
+      if (turn.w() < 0.0) turn.coeffs() = -turn.coeffs();
+      const Eigen::AngleAxisd axis_angle(turn);
+      const Eigen::Vector3d omega = axis_angle.axis() * (axis_angle.angle() / dt);
+      for (int c = 0; c < 3; ++c)
+        twist.angular_rad_s[c] = std::isfinite(omega[c]) ? omega[c] : 0.0;
+    }
+  }
+  if (margin_before + margin_after > 0) {
+    const auto trim = [&](auto& values, std::size_t per_frame) {
+      values.erase(values.end() - static_cast<std::ptrdiff_t>(margin_after * per_frame),
+                   values.end());
+      values.erase(values.begin(),
+                   values.begin() + static_cast<std::ptrdiff_t>(margin_before * per_frame));
+    };
+    trim(frames.times_s, 1);
+    trim(frames.poses, slots);
+    trim(frames.velocities, slots);
+    frames.first_frame += margin_before;
+  }
+  return frames;
+}
+
 json frame_to_json(const FrameSet& frames, std::size_t frame) {
   json poses = json::array();
   poses.get_ref<json::array_t&>().reserve(frames.bodies.size());
   for (std::size_t k = 0; k < frames.bodies.size(); ++k) {
     const engine::Pose& pose = frames.pose(frame, k);
-    poses.push_back(json{{"body", frames.bodies[k]},
-                         {"position", pose.position},
-                         {"orientation", pose.orientation}});
+    json entry = {
+        {"body", frames.bodies[k]}, {"position", pose.position}, {"orientation", pose.orientation}};
+    if (!frames.velocities.empty()) {
+      const Twist& twist = frames.velocities[frame * frames.bodies.size() + k];
+      entry["linear_velocity"] = twist.linear_m_s;
+      entry["angular_velocity"] = twist.angular_rad_s;
+    }
+    poses.push_back(std::move(entry));
   }
   return json{{"index", frames.first_frame + frame},
               {"time", frames.times_s[frame]},
@@ -96,12 +149,20 @@ class FrameJsonWriter {
 void FrameJsonWriter::write(std::ostream& out, const FrameSet& frames, std::size_t frame) {
   json::array_t& values = numbers_.get_ref<json::array_t&>();
   values.clear();
-  values.reserve(2 + 8 * frames.bodies.size());
+  const bool moving = !frames.velocities.empty();
+  values.reserve(2 + (moving ? 14 : 8) * frames.bodies.size());
   values.emplace_back(frames.first_frame + frame);
   values.emplace_back(frames.times_s[frame]);
   for (std::size_t k = 0; k < frames.bodies.size(); ++k) {
     const engine::Pose& pose = frames.pose(frame, k);
+    const Twist* twist = moving ? &frames.velocities[frame * frames.bodies.size() + k] : nullptr;
+    if (twist)
+      for (const double component : twist->angular_rad_s)
+        values.emplace_back(component);
     values.emplace_back(frames.bodies[k]);
+    if (twist)
+      for (const double component : twist->linear_m_s)
+        values.emplace_back(component);
     for (const double component : pose.orientation)
       values.emplace_back(component);
     for (const double coordinate : pose.position)
@@ -120,7 +181,21 @@ void FrameJsonWriter::write(std::ostream& out, const FrameSet& frames, std::size
   out << ",\"poses\":[";
   for (std::size_t k = 0; k < frames.bodies.size(); ++k) {
     if (k != 0) out << ',';
-    out << "{\"body\":" << next() << ",\"orientation\":[" << next();
+    out << '{';
+    if (moving) {
+      out << "\"angular_velocity\":[" << next();
+      for (int c = 1; c < 3; ++c)
+        out << ',' << next();
+      out << "],";
+    }
+    out << "\"body\":" << next();
+    if (moving) {
+      out << ",\"linear_velocity\":[" << next();
+      for (int c = 1; c < 3; ++c)
+        out << ',' << next();
+      out << ']';
+    }
+    out << ",\"orientation\":[" << next();
     for (int c = 1; c < 4; ++c)
       out << ',' << next();
     out << "],\"position\":[" << next();

@@ -86,10 +86,11 @@ json stats_to_json(const engine::Stats& stats) {
   // Binding every member by name makes a field added to Stats a compile error here until it is
   // written too, so "stats" always holds every field.
   const auto& [steps, simulated_time_s, wall_time_s, ended_early, bodies, bodies_anchored,
-               bodies_never_released, fragments_held_by_frame, bodies_slept, bodies_static_in_frames, panels, panels_loaded,
-               panels_back_facing, panels_not_reached, body_steps, occlusion_skipped,
-               panels_shielded, panes_broken, panes_not_broken, fragments, collision_pairs,
-               collision_pairs_skipped, contact_points] = stats;
+               bodies_never_released, fragments_held_by_frame, bodies_slept,
+               bodies_static_in_frames, panels, panels_loaded, panels_back_facing,
+               panels_not_reached, body_steps, occlusion_skipped, panels_shielded, panes_broken,
+               panes_not_broken, fragments, collision_pairs, collision_pairs_skipped,
+               contact_points] = stats;
   return json{{"steps", steps},
               {"simulated_time_s", simulated_time_s},
               {"wall_time_s", wall_time_s},
@@ -202,7 +203,7 @@ json result_to_json(const engine::Result& result) {
 // allocations) in memory, and frames are written without one. The members are written in the
 // order nlohmann::json dumps an object, sorted by key; io_tests checks the two texts are
 // identical.
-void write_result_json(const engine::Result& result, std::ostream& out) {
+void write_result_json(const engine::Result& result, std::ostream& out, bool frame_velocities) {
   assert(result.poses.size() == result.frame_times_s.size() * result.animated.size());
   const std::vector<bool> animated = animated_flags(result);
 
@@ -214,7 +215,8 @@ void write_result_json(const engine::Result& result, std::ostream& out) {
                [&](std::size_t i) { return final_state_to_json(result.final_state[i]); });
   out << ",\"fracture\":" << fracture_to_json(result.fracture).dump();
   out << ",\"frames\":";
-  write_frames_array(out, frames_of(result));
+  write_frames_array(out,
+                     frame_velocities ? with_velocities(frames_of(result)) : frames_of(result));
   out << ",\"shielding\":" << shielding_to_json(result).dump();
   out << ",\"stats\":" << stats_to_json(result.stats).dump();
   out << ",\"warnings\":";

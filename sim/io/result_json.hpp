@@ -33,6 +33,8 @@ nlohmann::json fracture_to_json(const std::vector<engine::PaneReport>& panes);
 // The shielding report, one entry per charge whose pass ran: [{"charge", "bodies": [{"body",
 // "name", "attenuation"}]}] (bodies at attenuation 1 left out); [] when none ran.
 nlohmann::json shielding_to_json(const engine::Result& result);
-void write_result_json(const engine::Result& result, std::ostream& out);
+// With `frame_velocities`, every pose of "frames" also has its velocities (io::with_velocities).
+void write_result_json(const engine::Result& result, std::ostream& out,
+                       bool frame_velocities = false);
 
 }  // namespace brisance::io

@@ -112,6 +112,31 @@ TEST_F(RunCommand, JsonFramesHaveTheHttpShape) {
   }
 }
 
+TEST_F(RunCommand, FrameVelocitiesAreCentralDifferencesOfThePoses) {
+  const std::string path = temp_path("moving.json");
+  written_.push_back(path);
+  std::ostringstream out;
+  ASSERT_EQ(run_simulation({scene_path_, "-o", path, "--frame-velocities"}, out), kExitOk);
+  const json result = json::parse(read(path));
+  const json& frames = result.at("frames");
+  ASSERT_GE(frames.size(), 3u);
+  // Inside the run: the central difference of the neighbouring positions, exactly.
+  const std::size_t f = frames.size() / 2;
+  const json& pose = frames[f].at("poses")[0];
+  const double dt = frames[f + 1].at("time").get<double>() - frames[f - 1].at("time").get<double>();
+  for (int c = 0; c < 3; ++c) {
+    const double expected = (frames[f + 1].at("poses")[0].at("position")[c].get<double>() -
+                             frames[f - 1].at("poses")[0].at("position")[c].get<double>()) /
+                            dt;
+    EXPECT_NEAR(pose.at("linear_velocity")[c].get<double>(), expected, 1e-12);
+  }
+  // Without the flag the poses have no velocities; with another format it is a usage error.
+  EXPECT_FALSE(
+      json::parse(run_to("plain.json")).at("frames")[f].at("poses")[0].contains("linear_velocity"));
+  EXPECT_THROW(run_simulation({scene_path_, "-o", temp_path("x.brf"), "--frame-velocities"}, out),
+               UsageError);
+}
+
 TEST_F(RunCommand, BrfHoldsTheFramesAsBrf1) {
   const std::string brf = run_to("out.brf");
   const engine::Result expected = simulate();

@@ -72,6 +72,28 @@ TEST(ResultForms, ServedFramesMeshesAndGlbEqualTheCodecOnStoredRows) {
     EXPECT_EQ(served_binary.body, io::frames_to_brf1(frames));
   }
 
+  // With velocities, any page's frames equal the same frames of the whole run's.
+  const io::FrameSet everything =
+      io::with_velocities(service.result_frame_set(id, *layout, 0, 31, layout->animated));
+  const json whole = json::parse(io::frames_document_json(everything, 31));
+  for (const auto& [from, to] :
+       std::vector<std::pair<int, int>>{{0, 31}, {0, 1}, {7, 12}, {30, 31}}) {
+    SCOPED_TRACE(std::to_string(from) + ".." + std::to_string(to));
+    const json page =
+        server.get_json("/v1/jobs/" + id + "/frames?velocities=true&from=" + std::to_string(from) +
+                        "&to=" + std::to_string(to));
+    ASSERT_EQ(page.at("frames").size(), static_cast<std::size_t>(to - from));
+    for (int f = from; f < to; ++f)
+      EXPECT_EQ(page.at("frames")[f - from], whole.at("frames")[f]);
+    EXPECT_TRUE(page.at("frames")[0].at("poses")[0].contains("angular_velocity"));
+  }
+  EXPECT_EQ(server
+                .request("GET", "/v1/jobs/" + id + "/frames?velocities=true", {},
+                         {{"Accept", "application/octet-stream"}})
+                .status,
+            400);
+  EXPECT_EQ(server.request("GET", "/v1/jobs/" + id + "/frames?velocities=yes").status, 400);
+
   const ClientResponse meshes = server.request("GET", "/v1/jobs/" + id + "/meshes");
   ASSERT_EQ(meshes.status, 200);
   EXPECT_EQ(meshes.body, service.result_meshes_json(id));

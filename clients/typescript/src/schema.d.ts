@@ -924,6 +924,13 @@ export interface components {
             body: number;
             position: components["schemas"]["Vec3"];
             orientation: components["schemas"]["Quaternion"];
+            /**
+             * @description With `velocities=true`: m/s, world frame, of `position` (the shape's origin), from the
+             *     poses of the frames on either side.
+             */
+            linear_velocity?: components["schemas"]["Vec3"];
+            /** @description With `velocities=true`: rad/s, world frame, from the same frames. */
+            angular_velocity?: components["schemas"]["Vec3"];
         };
         /**
          * @description One frame: its index in the whole run, its time and one pose per listed body. The one
@@ -2443,6 +2450,13 @@ export interface operations {
                  *     Default: the animated bodies (`animated` of the result).
                  */
                 bodies?: number[];
+                /**
+                 * @description `true`: every pose also has `linear_velocity` and `angular_velocity` (JSON only; a
+                 *     `400` with `Accept: application/octet-stream`), for motion blur: central differences of
+                 *     the stored poses over the neighbouring frames (one-sided at the run's first and last
+                 *     frame), so a page's velocities equal the whole run's.
+                 */
+                velocities?: boolean;
             };
             header?: {
                 /**

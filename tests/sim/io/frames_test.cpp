@@ -7,6 +7,7 @@
 #include <sstream>
 #include <string>
 
+#include <Eigen/Geometry>
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
@@ -80,7 +81,8 @@ TEST(Frames, StreamedFrameEqualsTheDom) {
   FrameSet no_bodies = small_frames();
   no_bodies.bodies.clear();
   no_bodies.poses.clear();
-  for (const FrameSet& frames : {small_frames(), odd, no_bodies}) {
+  for (const FrameSet& frames :
+       {small_frames(), odd, no_bodies, with_velocities(small_frames()), with_velocities(odd)}) {
     for (std::size_t f = 0; f < frames.frame_count(); ++f) {
       std::ostringstream out;
       write_frame_json(out, frames, f);
@@ -96,6 +98,50 @@ TEST(Frames, StreamedFrameEqualsTheDom) {
       document["frames"].push_back(frame_to_json(frames, f));
     EXPECT_EQ(frames_document_json(frames, 10), document.dump());
   }
+}
+
+TEST(Frames, VelocitiesOfSteadyMotionAreExactAndPagesTakeTheirNeighbours) {
+  // A body moving at v = (2, -1, 0.5) m/s and turning at 3 rad/s about (0, 0.6, 0.8), sampled at
+  // 30 frames a second: the central differences give v and omega exactly (to round-off), at the
+  // ends too (one-sided).
+  const std::array<double, 3> v{2.0, -1.0, 0.5};
+  const Eigen::Vector3d axis(0.0, 0.6, 0.8);
+  const double rate = 3.0;
+  FrameSet all;
+  all.bodies = {4};
+  for (int f = 0; f < 10; ++f) {
+    const double t = f / 30.0;
+    const Eigen::Quaterniond q(Eigen::AngleAxisd(rate * t, axis));
+    all.times_s.push_back(t);
+    all.poses.push_back(
+        pose({1.0 + v[0] * t, 2.0 + v[1] * t, v[2] * t}, {q.x(), q.y(), q.z(), q.w()}));
+  }
+  const FrameSet moving = with_velocities(all);
+  ASSERT_EQ(moving.velocities.size(), 10u);
+  for (std::size_t f = 0; f < 10; ++f) {
+    for (int c = 0; c < 3; ++c) {
+      EXPECT_NEAR(moving.velocities[f].linear_m_s[c], v[c], 1e-12) << f;
+      EXPECT_NEAR(moving.velocities[f].angular_rad_s[c], rate * axis[c], 1e-9) << f;
+    }
+  }
+  // Frames 3..6 as a page: with one neighbour on each side they equal the whole set's.
+  FrameSet page = all;
+  page.first_frame = 2;
+  page.times_s.assign(all.times_s.begin() + 2, all.times_s.begin() + 8);
+  page.poses.assign(all.poses.begin() + 2, all.poses.begin() + 8);
+  const FrameSet trimmed = with_velocities(page, 1, 1);
+  EXPECT_EQ(trimmed.first_frame, 3u);
+  ASSERT_EQ(trimmed.frame_count(), 4u);
+  ASSERT_EQ(trimmed.velocities.size(), 4u);
+  EXPECT_EQ(trimmed.times_s.front(), all.times_s[3]);
+  EXPECT_EQ(frame_to_json(trimmed, 0).dump(), [&] {
+    json frame = frame_to_json(moving, 3);
+    frame["index"] = 3;
+    return frame.dump();
+  }());
+  const json pose_json = frame_to_json(trimmed, 1)["poses"][0];
+  EXPECT_NEAR(pose_json["linear_velocity"][0].get<double>(), 2.0, 1e-12);
+  EXPECT_TRUE(frame_to_json(all, 0)["poses"][0].count("linear_velocity") == 0);
 }
 
 TEST(Frames, FramesOfAResultAreItsAnimatedBodiesFromFrameZero) {

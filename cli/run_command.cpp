@@ -1,11 +1,16 @@
 // `brisance run` and `brisance validate`: a scene file through the simulator and the writers.
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <optional>
 #include <sstream>
 #include <string>
+#include <utility>
+
+#include <unistd.h>
 
 #include "cli/commands.hpp"
 #include "cli/text.hpp"
@@ -28,7 +33,8 @@ constexpr std::string_view kRunHelp =
     "  -o, --output FILE   where to write; the extension picks the format\n"
     "  --frame-velocities  .json only: each pose of the frames also gets its linear and angular\n"
     "                      velocity (for motion blur; as GET .../frames?velocities=true)\n"
-    "  --progress          a progress bar on stderr (shown once a run takes over a second)\n";
+    "  --progress          progress on stderr once a run takes over a second: a bar with the\n"
+    "                      time left on a terminal, a line at every tenth otherwise\n";
 
 constexpr std::string_view kValidateHelp =
     "usage: brisance validate SCENE.json\n"
@@ -66,19 +72,39 @@ scene::Scene load_scene(const ParsedFlags& flags, std::string_view path) {
       (parsed.errors.size() > 1 ? text::printf(" (%zu problems)", parsed.errors.size()) : ""));
 }
 
+// The run's progress on stderr: on a terminal a bar redrawn in place, otherwise (a log, a CI
+// job) a plain line at every tenth. Both give the time so far and the time left, estimated from
+// the share of the work done (the engine's progress is in work, not simulated time).
 class ProgressBar {
  public:
-  explicit ProgressBar(bool enabled) : enabled_(enabled) {}
+  ProgressBar(bool enabled, bool terminal) : enabled_(enabled), terminal_(terminal) {}
   void update(double fraction) {
     if (!enabled_) return;
     const double elapsed = seconds();
-    if (elapsed < 1.0 && fraction < 1.0) return;  // quick runs stay quiet
+    if (elapsed < 1.0 && last_tenth_ == 0 && !drawn_) return;  // quick runs stay quiet
+    // The rate since the first report: preparing (breaking panes, shielding) comes before it.
+    if (!first_) first_ = {elapsed, fraction};
+    const double rate =
+        fraction > first_->second ? (fraction - first_->second) / (elapsed - first_->first) : 0.0;
+    const std::string left =
+        fraction >= 1.0 ? std::string("done")
+        : rate > 0.0    ? text::printf("about %s left", duration((1.0 - fraction) / rate).c_str())
+                        : std::string("estimating");
+    if (!terminal_) {
+      const int tenth = static_cast<int>(10.0 * fraction);
+      if (tenth <= last_tenth_) return;
+      last_tenth_ = tenth;
+      std::fprintf(stderr, "progress %3.0f%%  %s elapsed, %s\n", 100.0 * fraction,
+                   duration(elapsed).c_str(), left.c_str());
+      return;
+    }
     if (fraction < 1.0 && elapsed - last_draw_ < 0.1) return;
     last_draw_ = elapsed;
     const int width = 40;
     const int filled = static_cast<int>(fraction * width);
-    std::fprintf(stderr, "\r[%s%s] %5.1f%%  %.1f s", std::string(filled, '#').c_str(),
-                 std::string(width - filled, '.').c_str(), 100.0 * fraction, elapsed);
+    std::fprintf(stderr, "\r[%s%s] %5.1f%%  %s, %s   ", std::string(filled, '#').c_str(),
+                 std::string(width - filled, '.').c_str(), 100.0 * fraction,
+                 duration(elapsed).c_str(), left.c_str());
     drawn_ = true;
   }
   void finish() {
@@ -86,12 +112,22 @@ class ProgressBar {
   }
 
  private:
+  static std::string duration(double s) {
+    if (s < 10.0) return text::printf("%.1f s", s);
+    if (s < 60.0) return text::printf("%.0f s", s);
+    if (s < 3600.0)
+      return text::printf("%d min %02d s", static_cast<int>(s / 60), static_cast<int>(s) % 60);
+    return text::printf("%d h %02d min", static_cast<int>(s / 3600), static_cast<int>(s / 60) % 60);
+  }
   double seconds() const {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
   }
   bool enabled_;
+  bool terminal_;
   bool drawn_ = false;
   double last_draw_ = -1.0;
+  int last_tenth_ = 0;
+  std::optional<std::pair<double, double>> first_;  // elapsed s and fraction at the first report
   std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
 };
 
@@ -154,7 +190,7 @@ int run_simulation(const Args& args, std::ostream& out) {
     flags.fail("the output folder '" + output_path.parent_path().string() + "' does not exist");
 
   const scene::Scene scene = load_scene(flags, scene_path);
-  ProgressBar bar(flags.has("progress"));
+  ProgressBar bar(flags.has("progress"), isatty(STDERR_FILENO) != 0);
   engine::RunHooks hooks;
   hooks.progress = [&bar](double fraction) { bar.update(fraction); };
   const engine::RunOutcome outcome = engine::simulate(scene, hooks);

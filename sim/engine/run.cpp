@@ -313,7 +313,12 @@ bool Run::loop(const RunHooks& hooks) {
   const std::size_t frame_count = state_.frame_count;
   double t = 0.0;
   std::size_t frame = 1;
-  int progress_reported = 0;
+  // Progress is the share of the run's work done: the steps and body steps so far against the
+  // same plus the rest of the run at the present step's size and load. Simulated time is not
+  // it: the first tens of milliseconds, every body awake under the wave with short steps, cost
+  // most of a run whose bodies then fall asleep.
+  double work_done = 0.0;
+  double progress_reported = 0.0;
   while (t < sim.duration_s) {
     if (hooks.cancel_requested && hooks.cancel_requested()) return false;
     const double frame_time =
@@ -324,8 +329,12 @@ bool Run::loop(const RunHooks& hooks) {
     dt = t1 - t;
     if (dt <= 0.0) break;
 
+    const std::uint64_t body_steps_before = result_.stats.body_steps;
     step(t, t1);
     t = t1;
+    const double step_work =
+        1.0 + static_cast<double>(result_.stats.body_steps - body_steps_before);
+    work_done += step_work;
 
     if (t == frame_time && frame < frame_count) {
       result_.frame_times_s.push_back(frame_time);
@@ -333,10 +342,13 @@ bool Run::loop(const RunHooks& hooks) {
       ++frame;
     }
     if (hooks.progress) {
-      const int percent = static_cast<int>(200.0 * t / sim.duration_s);
-      if (percent > progress_reported) {
-        progress_reported = percent;
-        hooks.progress(std::min(1.0, t / sim.duration_s));
+      const double remaining = (sim.duration_s - t) / dt * step_work;
+      const double fraction = std::min(1.0, work_done / (work_done + remaining));
+      // Reported in steps of half a percent, never backwards (a wave arriving wakes bodies up
+      // and raises the estimate of what is left).
+      if (fraction >= progress_reported + 0.005) {
+        progress_reported = fraction;
+        hooks.progress(fraction);
       }
     }
     // Everything at rest and no wave still to come: the remaining frames are the same.

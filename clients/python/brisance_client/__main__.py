@@ -18,7 +18,7 @@ import json
 import os
 import sys
 import time
-from typing import Any, Dict, List, Optional, TextIO
+from typing import Any, Dict, List, Optional, TextIO, Tuple
 
 from . import __version__
 from .client import DEFAULT_URL, Client, Job
@@ -39,7 +39,9 @@ class UsageError(Exception):
 
 
 class ProgressBar:
-    """A one-line text progress bar, redrawn in place (``\\r``) on a terminal."""
+    """The job's progress: a one-line bar redrawn in place (``\\r``) on a terminal, a plain line
+    at every change of state and every tenth otherwise (logs, CI). Both show the time left,
+    estimated from the rate since the job started running (its progress is in work done)."""
 
     def __init__(self, stream: TextIO, enabled: bool, width: int = 30) -> None:
         self.stream = stream
@@ -47,16 +49,40 @@ class ProgressBar:
         self.width = width
         self.drawn = False
         self.started = time.monotonic()
+        self.terminal = bool(getattr(stream, "isatty", lambda: False)())
+        self.last: Optional[Tuple[str, int]] = None
+        self.first: Optional[Tuple[float, float]] = None  # (clock, fraction) once running
+
+    def _left(self, fraction: float, now: float) -> str:
+        if fraction >= 1.0:
+            return "done"
+        if self.first is None or fraction <= self.first[1] or now <= self.first[0]:
+            return ""
+        rate = (fraction - self.first[1]) / (now - self.first[0])
+        return "about %.0fs left" % max(1.0, (1.0 - fraction) / rate)
 
     def __call__(self, job: Job) -> None:
         if not self.enabled:
             return
+        now = time.monotonic()
         fraction = 1.0 if job.succeeded else max(0.0, min(1.0, job.progress))
+        if job.status == "running" and self.first is None:
+            self.first = (now, fraction)
+        elapsed = now - self.started
+        left = self._left(fraction, now)
+        if not self.terminal:
+            key = (str(job.status), int(10 * fraction))
+            if key == self.last:
+                return
+            self.last = key
+            self.stream.write("%-9s %5.1f%%  %5.1fs  %s%s\n" % (
+                job.status, 100.0 * fraction, elapsed, job.id, "  " + left if left else ""))
+            self.stream.flush()
+            return
         filled = int(round(fraction * self.width))
         bar = "#" * filled + "-" * (self.width - filled)
-        elapsed = time.monotonic() - self.started
-        self.stream.write("\r%-9s [%s] %5.1f%%  %5.1fs  %s" % (
-            job.status, bar, 100.0 * fraction, elapsed, job.id))
+        self.stream.write("\r%-9s [%s] %5.1f%%  %5.1fs  %s  %-18s" % (
+            job.status, bar, 100.0 * fraction, elapsed, job.id, left))
         self.stream.flush()
         self.drawn = True
 

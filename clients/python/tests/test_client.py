@@ -476,7 +476,9 @@ class JobsTest(ServerTestCase):
             self.assertEqual(done.returncode, 0, done.stderr)
             job_id = done.stdout.strip()
             self.assertRegex(job_id, r"^j[0-9a-f]{24}$")
-            self.assertIn("100.0%", done.stderr)  # --progress draws the bar on a pipe
+            self.assertIn("100.0%", done.stderr)  # --progress reports on a pipe too,
+            self.assertNotIn("\r", done.stderr)  # as plain lines
+            self.assertRegex(done.stderr, r"(?m)^succeeded +100\.0%.*done$")
             with open(out, "rb") as handle:
                 self.assertEqual(handle.read(4), b"glTF")
             self.assertEqual(self.client.job(job_id).status, "succeeded")

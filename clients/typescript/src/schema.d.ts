@@ -723,7 +723,10 @@ export interface components {
             name: components["schemas"]["JobName"];
             labels: components["schemas"]["JobLabels"];
             status: components["schemas"]["JobStatus"];
-            /** @description Fraction of the simulated time done, 0 → 1. */
+            /**
+             * @description Share of the run's work done, 0 → 1: the steps taken against those plus the rest of
+             *     the run at the present step size and load (an estimate that never goes back).
+             */
             progress: number;
             priority: number;
             /** @description Times a worker has claimed the job. */

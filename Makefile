@@ -10,8 +10,9 @@ DEB_PACKAGES := cmake g++ make ninja-build pkg-config \
   libeigen3-dev libboost1.81-dev nlohmann-json3-dev libsqlite3-dev \
   libgtest-dev libgmock-dev libbenchmark-dev libssl-dev libpq-dev python3
 # Only the tests need these: chromium for the browser tests, postgresql (15 on Debian 12) for the
-# PostgreSQL store's tests, which start their own server in a temporary folder.
-TEST_DEB_PACKAGES := chromium postgresql
+# PostgreSQL store's tests, which start their own server in a temporary folder, curl and jq for
+# the blocks of docs/pipelines.md (tests/docs/run_doc_blocks.py).
+TEST_DEB_PACKAGES := chromium postgresql curl jq
 # Only the deploy/ checks need these (tests/deploy.cmake): systemd-analyze, strace, shellcheck.
 DEPLOY_TEST_DEB_PACKAGES := systemd strace shellcheck
 

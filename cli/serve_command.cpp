@@ -16,6 +16,7 @@
 #include "cli/text.hpp"
 #include "server/api.hpp"
 #include "server/api_keys.hpp"
+#include "server/callbacks.hpp"
 #include "server/http_server.hpp"
 #include "server/job_service.hpp"
 #include "server/log.hpp"
@@ -64,6 +65,11 @@ constexpr std::string_view kHelp =
     "                       (survives power loss), normal (default) survives\n"
     "                       any process crash\n"
     "  --grace-s S          on SIGTERM, time running jobs get to finish (10)  [BRISANCE_GRACE_S]\n"
+    "  --callback-url URL   http:// URL told when a job that names none ends  "
+    "[BRISANCE_CALLBACK_URL]\n"
+    "  --callback-secret S  HMAC-SHA256 key that signs callback deliveries "
+    "[BRISANCE_CALLBACK_SECRET]\n"
+    "                       (Brisance-Signature; docs/service.md \"Callbacks\")\n"
     "  --log-level L        debug, info (default), warn or error             "
     "[BRISANCE_LOG_LEVEL]\n";
 
@@ -139,6 +145,8 @@ int run_serve(const Args& args, std::ostream& out) {
                            {"retention-h"},
                            {"sync"},
                            {"grace-s"},
+                           {"callback-url"},
+                           {"callback-secret"},
                            {"log-level"},
                            {"web-dir"},
                            {"help", false, "h"}});
@@ -195,6 +203,15 @@ int run_serve(const Args& args, std::ostream& out) {
   workers.retention = std::chrono::hours(
       integer_setting(flags, "retention-h", "BRISANCE_RETENTION_H", 168, 0, 1000000));
   const double grace_s = number_setting(flags, "grace-s", "BRISANCE_GRACE_S", 10, 0, 3600);
+  service_options.default_callback_url =
+      setting(flags, "callback-url", "BRISANCE_CALLBACK_URL").value_or("");
+  if (!service_options.default_callback_url.empty()) {
+    if (auto problem = check_callback_url(service_options.default_callback_url))
+      flags.fail("--callback-url (or BRISANCE_CALLBACK_URL): " + *problem);
+  }
+  CallbackOptions callback_options;
+  callback_options.secret =
+      setting(flags, "callback-secret", "BRISANCE_CALLBACK_SECRET").value_or("");
 
   const std::string level = setting(flags, "log-level", "BRISANCE_LOG_LEVEL").value_or("info");
   if (level == "debug") {
@@ -237,6 +254,7 @@ int run_serve(const Args& args, std::ostream& out) {
   JobService service(*storage, service_options);
   Metrics metrics;
   WorkerPool pool(service, metrics, workers);
+  CallbackSender callbacks(service, callback_options);
   ApiOptions api_options;
   api_options.body_limit_bytes = http.body_limit_bytes;
   const auto min_free_bytes = static_cast<std::uint64_t>(

@@ -5,12 +5,13 @@
 #include <cmath>
 #include <random>
 
+#include <boost/url/parse.hpp>
 #include <nlohmann/json.hpp>
 
 #include "server/sha256.hpp"
 #include "sim/io/gltf.hpp"
-#include "sim/scene/reader.hpp"
 #include "sim/io/result_codec.hpp"
+#include "sim/scene/reader.hpp"
 
 namespace brisance::server {
 
@@ -61,6 +62,21 @@ std::size_t characters(std::string_view text) {
 }
 
 }  // namespace
+
+std::optional<std::string> check_callback_url(std::string_view url) {
+  if (url.size() > 2000) return "callback URLs have at most 2000 characters";
+  const auto parsed = boost::urls::parse_absolute_uri(url);
+  if (!parsed) return "callback must be an absolute URL http://host[:port][/path]";
+  if (parsed->scheme() == "https")
+    return "https callbacks are not supported yet: give an http URL (a relay on the receiving "
+           "side can forward it over TLS); deliveries are signed either way";
+  if (parsed->scheme() != "http") return "callback URLs use http://";
+  if (parsed->host().empty()) return "callback URL without a host";
+  if (parsed->has_userinfo()) return "callback URLs take no user:password@; use the signature";
+  if (parsed->has_port() && (parsed->port_number() == 0 || parsed->port().empty()))
+    return "callback URL with an invalid port";
+  return std::nullopt;
+}
 
 bool valid_label_key(std::string_view key) {
   if (key.empty() || key.size() > kMaxLabelKey) return false;
@@ -189,6 +205,7 @@ SubmitOutcome JobService::submit(const SubmitRequest& request) {
   };
   int priority = 0;
   std::string name;
+  std::string callback = options_.default_callback_url;
   json labels = json::object();
   const json* scene_json = nullptr;
   if (!document.is_object()) {
@@ -210,6 +227,15 @@ SubmitOutcome JobService::submit(const SubmitRequest& request) {
         } else {
           name = value.get<std::string>();
         }
+      } else if (key == "callback") {
+        if (!value.is_string()) {
+          invalid("/callback",
+                  "callback must be a URL string, e.g. \"http://render-farm:9000/done\"");
+        } else if (auto problem = check_callback_url(value.get_ref<const std::string&>())) {
+          invalid("/callback", std::move(*problem));
+        } else {
+          callback = value.get<std::string>();
+        }
       } else if (key == "labels") {
         const std::size_t before = outcome.errors.size();
         check_job_labels(value, invalid);
@@ -218,7 +244,7 @@ SubmitOutcome JobService::submit(const SubmitRequest& request) {
         invalid("/" + scene::escape_token(key),
                 "unknown field '" + key + "'" +
                     (key == "label" ? " (did you mean 'labels'?)" : "") +
-                    ": a job has only 'scene', 'priority', 'name' and 'labels'");
+                    ": a job has only 'scene', 'priority', 'name', 'labels' and 'callback'");
       }
     }
     if (!scene_json) invalid("/scene", "missing 'scene': the scene to simulate");
@@ -238,6 +264,7 @@ SubmitOutcome JobService::submit(const SubmitRequest& request) {
   job.priority = priority;
   job.name = std::move(name);
   job.labels_json = labels.dump();
+  job.callback_url = std::move(callback);
   job.idempotency_key = std::string(request.idempotency_key);
   job.owner = std::string(request.owner);
   if (!job.idempotency_key.empty()) job.request_hash = sha256_hex(request.body);

@@ -28,7 +28,12 @@ struct ServiceOptions {
   std::int64_t max_queue = 10000;  // queued jobs above which submissions get 429
   int max_attempts = 3;            // claims before a job that keeps killing workers fails
   scene::Limits limits;
+  std::string default_callback_url;  // for jobs that name none ('' none); --callback-url
 };
+
+// A callback URL a job may name: http://host[:port][/path], at most 2000 characters. nullopt
+// when valid, else why not.
+std::optional<std::string> check_callback_url(std::string_view url);
 
 std::int64_t now_ms();
 
@@ -97,6 +102,18 @@ class JobService {
     return storage_.list_jobs(filter, before_seq, limit);
   }
   CancelOutcome cancel(const std::string& id);
+
+  // Callbacks (server/callbacks): a finished job whose callback is due, held for lease_ms; and
+  // the outcome of an attempt, which wakes the job's long-polls.
+  std::optional<JobRecord> claim_callback(std::int64_t lease_ms) {
+    return storage_.claim_callback(now_ms(), lease_ms);
+  }
+  bool record_callback(const std::string& id, std::string_view deliveries_json,
+                       std::string_view state, std::int64_t next_ms) {
+    const bool found = storage_.record_callback(id, deliveries_json, state, next_ms, now_ms());
+    if (found) notifier_.notify(id);
+    return found;
+  }
   bool remove(const std::string& id);
 
   // The scene JSON a job was submitted with.

@@ -37,8 +37,9 @@ constexpr std::size_t kFramesPerInsert = 1000;
 
 #define JOB_COLUMNS                                                                        \
   "id, seq, status, priority, progress, version, attempts, cancel_requested, created_ms, " \
-  "updated_ms, started_ms, finished_ms, error_type, error, stats, owner, name, labels"
-constexpr int kJobColumnCount = 18;
+  "updated_ms, started_ms, finished_ms, error_type, error, stats, owner, name, labels, "   \
+  "callback_url, callback_state, callback_deliveries"
+constexpr int kJobColumnCount = 21;
 
 // Whether PostgreSQL can hold `text` in a text column: valid UTF-8 (the database encoding) and no
 // NUL (libpq passes text parameters as C strings). SQLite stores any bytes, so a client's bytes
@@ -115,6 +116,9 @@ JobRecord read_job(const pg::Result& r, int row) {
   j.owner = std::string(r.text(row, 15));
   j.name = std::string(r.text(row, 16));
   j.labels_json = std::string(r.text(row, 17));
+  j.callback_url = std::string(r.text(row, 18));
+  j.callback_state = std::string(r.text(row, 19));
+  j.callback_deliveries_json = std::string(r.text(row, 20));
   return j;
 }
 
@@ -490,6 +494,33 @@ class PgStorage final : public Storage {
     });
   }
 
+  std::optional<JobRecord> claim_callback(std::int64_t now_ms, std::int64_t lease_ms) override {
+    return with_connection([&](pg::Connection& c) -> std::optional<JobRecord> {
+      // SKIP LOCKED: senders on other nodes take other deliveries instead of waiting.
+      const pg::Result r = c.exec(
+          "UPDATE jobs SET callback_next_ms = $2 WHERE seq = (SELECT seq FROM jobs WHERE "
+          "callback_state = 'pending' AND status IN ('succeeded', 'failed', 'cancelled') AND "
+          "callback_next_ms <= $1 ORDER BY callback_next_ms LIMIT 1 FOR UPDATE SKIP LOCKED) "
+          "RETURNING " JOB_COLUMNS,
+          pg::Params().add(now_ms).add(now_ms + lease_ms));
+      if (r.rows() == 0) return std::nullopt;
+      return read_job(r, 0);
+    });
+  }
+
+  bool record_callback(std::string_view id, std::string_view deliveries_json,
+                       std::string_view state, std::int64_t next_ms, std::int64_t now_ms) override {
+    if (!storable(id)) return false;
+    return with_connection([&](pg::Connection& c) {
+      return c.exec(
+                  "UPDATE jobs SET callback_deliveries = $2, callback_state = $3, "
+                  "callback_next_ms = $4, version = version + 1, updated_ms = $5 WHERE id = $1 "
+                  "RETURNING pg_notify('brisance_jobs', id)",
+                  pg::Params().add(id).add(deliveries_json).add(state).add(next_ms).add(now_ms))
+                 .rows() > 0;
+    });
+  }
+
   std::int64_t prune_finished(std::int64_t before_ms) override {
     return with_connection([&](pg::Connection& c) {
       return c
@@ -577,13 +608,14 @@ class PgStorage final : public Storage {
     } else {
       params.add(scoped_key).add(job.request_hash);
     }
-    params.add(job.owner).add(job.name).add(job.labels_json);
+    params.add(job.owner).add(job.name).add(job.labels_json).add(job.callback_url);
+    params.add(job.callback_url.empty() ? "" : "pending");
     // Another node may insert the same key between the look-up and here: ON CONFLICT waits
     // for its commit and inserts nothing, and the look-up then finds that job.
     const pg::Result r = c.exec(
         "WITH inserted AS (INSERT INTO jobs (id, status, priority, scene, created_ms, "
-        "updated_ms, idempotency_key, request_hash, owner, name, labels) "
-        "VALUES ($1, 'queued', $2, $3, $4, $4, $5, $6, $7, $8, $9) "
+        "updated_ms, idempotency_key, request_hash, owner, name, labels, callback_url, "
+        "callback_state) VALUES ($1, 'queued', $2, $3, $4, $4, $5, $6, $7, $8, $9, $10, $11) "
         "ON CONFLICT (idempotency_key) DO NOTHING RETURNING seq) "
         "SELECT seq, pg_notify('brisance_queue', '') FROM inserted",
         params);
@@ -600,6 +632,8 @@ class PgStorage final : public Storage {
     created.owner = job.owner;
     created.name = job.name;
     created.labels_json = job.labels_json;
+    created.callback_url = job.callback_url;
+    created.callback_state = job.callback_url.empty() ? "" : "pending";
     return {CreateOutcome::created, std::move(created)};
   }
 

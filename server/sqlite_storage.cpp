@@ -244,14 +244,18 @@ JobRecord read_job(const Statement& s) {
   j.owner = s.text(15);
   j.name = s.text(16);
   j.labels_json = s.text(17);
+  j.callback_url = s.text(18);
+  j.callback_state = s.text(19);
+  j.callback_deliveries_json = s.text(20);
   return j;
 }
 
 #define JOB_COLUMNS                                                                        \
   "id, seq, status, priority, progress, version, attempts, cancel_requested, created_ms, " \
-  "updated_ms, started_ms, finished_ms, error_type, error, stats, owner, name, labels"
+  "updated_ms, started_ms, finished_ms, error_type, error, stats, owner, name, labels, "   \
+  "callback_url, callback_state, callback_deliveries"
 
-constexpr int kJobColumnCount = 18;
+constexpr int kJobColumnCount = 21;
 
 class SqliteStorage final : public Storage {
  public:
@@ -637,6 +641,42 @@ class SqliteStorage final : public Storage {
     return n;
   }
 
+  std::optional<JobRecord> claim_callback(std::int64_t now_ms, std::int64_t lease_ms) override {
+    auto c = acquire();
+    std::lock_guard write(write_mutex_);
+    Transaction tx(*c, true);
+    std::optional<JobRecord> job;
+    {
+      auto s = c->prepare("SELECT " JOB_COLUMNS
+                          " FROM jobs WHERE callback_state = 'pending' AND status IN "
+                          "('succeeded', 'failed', 'cancelled') AND callback_next_ms <= ? "
+                          "ORDER BY callback_next_ms LIMIT 1");
+      s.bind(1, now_ms);
+      if (!s.step()) return std::nullopt;
+      job = read_job(s);
+    }
+    auto s = c->prepare("UPDATE jobs SET callback_next_ms = ? WHERE id = ?");
+    s.bind(1, now_ms + lease_ms).bind(2, job->id);
+    s.run();
+    tx.commit();
+    return job;
+  }
+
+  bool record_callback(std::string_view id, std::string_view deliveries_json,
+                       std::string_view state, std::int64_t next_ms, std::int64_t now_ms) override {
+    auto c = acquire();
+    std::lock_guard write(write_mutex_);
+    Transaction tx(*c, true);
+    auto s = c->prepare(
+        "UPDATE jobs SET callback_deliveries = ?, callback_state = ?, callback_next_ms = ?, "
+        "version = version + 1, updated_ms = ? WHERE id = ?");
+    s.bind(1, deliveries_json).bind(2, state).bind(3, next_ms).bind(4, now_ms).bind(5, id);
+    s.run();
+    const bool found = c->changes() > 0;
+    tx.commit();
+    return found;
+  }
+
   std::int64_t prune_finished(std::int64_t before_ms) override {
     auto c = acquire();
     std::lock_guard write(write_mutex_);
@@ -732,8 +772,8 @@ class SqliteStorage final : public Storage {
     if (!job.create_if_missing) return {CreateOutcome::not_created, {}};
     auto s = c.prepare(
         "INSERT INTO jobs (id, status, priority, scene, created_ms, updated_ms, "
-        "idempotency_key, request_hash, owner, name, labels) "
-        "VALUES (?, 'queued', ?, ?, ?, ?, ?, ?, ?, ?, ?)");
+        "idempotency_key, request_hash, owner, name, labels, callback_url, callback_state) "
+        "VALUES (?, 'queued', ?, ?, ?, ?, ?, ?, ?, ?, ?, ?, ?)");
     s.bind(1, job.id).bind(2, job.priority).bind(3, job.scene_json);
     s.bind(4, job.now_ms).bind(5, job.now_ms);
     if (job.idempotency_key.empty()) {
@@ -742,6 +782,7 @@ class SqliteStorage final : public Storage {
       s.bind(6, scoped_key).bind(7, job.request_hash);
     }
     s.bind(8, job.owner).bind(9, job.name).bind(10, job.labels_json);
+    s.bind(11, job.callback_url).bind(12, job.callback_url.empty() ? "" : "pending");
     s.run();
     // The row as inserted, without reading it back.
     JobRecord created;
@@ -753,6 +794,8 @@ class SqliteStorage final : public Storage {
     created.owner = job.owner;
     created.name = job.name;
     created.labels_json = job.labels_json;
+    created.callback_url = job.callback_url;
+    created.callback_state = job.callback_url.empty() ? "" : "pending";
     return {CreateOutcome::created, std::move(created)};
   }
 

@@ -52,6 +52,11 @@ struct JobRecord {
   std::string owner;               // the API key that submitted it; empty when keys are off
   std::string name;                // given at submission; empty when none
   std::string labels_json = "{}";  // given at submission: a flat object of strings, compact
+  // Told when the job ends (server/callbacks): the URL ('' none), the delivery state ('' none,
+  // pending, delivered, failed) and the attempts so far as a JSON array.
+  std::string callback_url;
+  std::string callback_state;
+  std::string callback_deliveries_json = "[]";
 };
 
 struct NewJob {
@@ -61,6 +66,7 @@ struct NewJob {
   std::string owner;               // the submitting API key's name; empty when keys are off
   std::string name;                // free text, validated by the service
   std::string labels_json = "{}";  // a flat object of strings, compact, validated by the service
+  std::string callback_url;        // '' none; else delivered once the job ends
   std::string idempotency_key;     // empty: none; scoped to the owner
   std::string request_hash;        // hash of the request body, for the idempotency check
   std::int64_t now_ms = 0;
@@ -186,6 +192,15 @@ class Storage {
   // Deletes finished jobs (and their results) that finished before `before_ms`.
   virtual std::int64_t prune_finished(std::int64_t before_ms) = 0;
   virtual bool ping() = 0;
+
+  // Callbacks. claim_callback takes a finished job whose callback is pending and due (oldest due
+  // first) and holds it until now + lease_ms (another sender skips it meanwhile);
+  // record_callback stores the attempts so far, the state (pending, delivered or failed) and,
+  // pending, when to try again; it bumps the job's version. False: the job is gone.
+  virtual std::optional<JobRecord> claim_callback(std::int64_t now_ms, std::int64_t lease_ms) = 0;
+  virtual bool record_callback(std::string_view id, std::string_view deliveries_json,
+                               std::string_view state, std::int64_t next_ms,
+                               std::int64_t now_ms) = 0;
 
   // Changes made by other processes on a shared store: `job_changed` hears the id of a job that
   // changed (to wake long-polls parked on it), `work_queued` that a job may be waiting (to wake

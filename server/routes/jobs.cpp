@@ -33,6 +33,16 @@ std::string job_json(const JobRecord& job) {
   out.reserve(640 + job.stats_json.size() + job.error.size() + job.name.size() +
               job.labels_json.size());
   out += "{\"attempts\":" + std::to_string(job.attempts);
+  out += ",\"callback\":";
+  if (job.callback_url.empty()) {
+    out += "null";
+  } else {
+    out += "{\"deliveries\":" + job.callback_deliveries_json;
+    out += ",\"state\":\"" + job.callback_state + "\"";
+    out +=
+        ",\"url\":" + json(job.callback_url).dump(-1, ' ', false, json::error_handler_t::replace);
+    out += '}';
+  }
   out += ",\"cancel_requested\":";
   out += job.cancel_requested ? "true" : "false";
   out += ",\"created_at\":\"" + iso_time_utc(job.created_ms) + "\"";

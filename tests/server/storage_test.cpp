@@ -239,6 +239,37 @@ server::JobFilter by(std::optional<JobStatus> status, std::optional<std::string>
   return filter;
 }
 
+TEST_P(StorageTest, CallbacksAreClaimedOnceDueAndRecorded) {
+  auto storage = open();
+  auto job = new_job("cb");
+  job.callback_url = "http://127.0.0.1:9/done";
+  EXPECT_EQ(storage->create_job(job).job.callback_state, "pending");
+  storage->create_job(new_job("plain"));
+  // Not finished yet: nothing to send.
+  EXPECT_FALSE(storage->claim_callback(2000, 1000));
+  ASSERT_EQ(storage->claim_next("w", 2000, 10000)->job.id, "cb");
+  ASSERT_TRUE(storage->fail("cb", "w", "simulation-error", "boom", 2100));
+  // Finished: claimed once, then held until the lease runs out.
+  const auto claimed = storage->claim_callback(3000, 1000);
+  ASSERT_TRUE(claimed);
+  EXPECT_EQ(claimed->id, "cb");
+  EXPECT_EQ(claimed->callback_url, "http://127.0.0.1:9/done");
+  EXPECT_FALSE(storage->claim_callback(3500, 1000));
+  const std::int64_t version = storage->get_job("cb")->version;
+  ASSERT_TRUE(
+      storage->record_callback("cb", R"([{"attempt":1,"status":503}])", "pending", 5000, 3600));
+  const auto recorded = storage->get_job("cb");
+  EXPECT_EQ(recorded->callback_deliveries_json, R"([{"attempt":1,"status":503}])");
+  EXPECT_EQ(recorded->version, version + 1);
+  EXPECT_FALSE(storage->claim_callback(4999, 1000));  // not due before the backoff
+  ASSERT_TRUE(storage->claim_callback(5000, 1000));
+  ASSERT_TRUE(storage->record_callback("cb", "[]", "delivered", 0, 5100));
+  EXPECT_FALSE(storage->claim_callback(99999, 1000));
+  EXPECT_EQ(storage->get_job("cb")->callback_state, "delivered");
+  EXPECT_EQ(storage->get_job("plain")->callback_state, "");
+  EXPECT_FALSE(storage->record_callback("gone", "[]", "failed", 0, 6000));
+}
+
 TEST_P(StorageTest, KeepsNamesAndLabelsAndListsByThem) {
   auto storage = open();
   const std::vector<std::tuple<std::string, std::string, std::string>> jobs = {

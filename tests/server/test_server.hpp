@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "server/api.hpp"
+#include "server/callbacks.hpp"
 #include "server/http_server.hpp"
 #include "server/job_service.hpp"
 #include "server/metrics.hpp"
@@ -43,6 +44,9 @@ struct TestServerOptions {
   // (several servers on one database stand for several nodes).
   bool postgres = test_store_is_postgres();
   std::string postgres_url;
+  // A callback sender (server/callbacks) with these options, and the default URL; none unset.
+  std::optional<server::CallbackOptions> callbacks;
+  std::string default_callback_url;
 };
 
 inline TestServerOptions with_workers(int workers) {
@@ -67,7 +71,10 @@ class TestServer {
     }
     server::ServiceOptions service_options;
     service_options.max_queue = options.max_queue;
+    service_options.default_callback_url = options.default_callback_url;
     service_ = std::make_unique<server::JobService>(*storage_, service_options);
+    if (options.callbacks)
+      callbacks_ = std::make_unique<server::CallbackSender>(*service_, *options.callbacks);
     server::WorkerOptions worker_options;
     worker_options.workers = options.workers;
     worker_options.lease = options.lease;
@@ -99,6 +106,7 @@ class TestServer {
   void stop() {
     if (http_) http_->stop(std::chrono::seconds(5));
     if (pool_) pool_->stop(std::chrono::milliseconds(0));
+    callbacks_.reset();
   }
 
   std::uint16_t port() const { return http_->port(); }
@@ -117,6 +125,7 @@ class TestServer {
   TempDir dir_;
   std::unique_ptr<server::Storage> storage_;
   std::unique_ptr<server::JobService> service_;
+  std::unique_ptr<server::CallbackSender> callbacks_;
   server::Metrics metrics_;
   std::unique_ptr<server::WorkerPool> pool_;
   server::ApiKeys keys_;

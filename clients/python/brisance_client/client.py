@@ -359,12 +359,15 @@ class Client:
         *,
         name: Optional[str] = None,
         labels: Optional[Mapping[str, str]] = None,
+        callback: Optional[str] = None,
         idempotency_key: Optional[str] = None,
     ) -> Job:
         """Queue a job ``{"scene": scene, "priority": priority}`` and return it (``queued``).
 
         ``name`` (at most 200 characters) and ``labels`` (up to 32 ``key: value`` strings) are
         kept with the job for lists and the dashboard; :meth:`jobs` filters by them.
+        ``callback`` is an ``http://`` URL the server POSTs the finished job to (signed; see
+        docs/service.md "Callbacks").
 
         Retries are safe: they carry the same ``Idempotency-Key`` (a fresh uuid4 unless given)
         and the same bytes. Raises :class:`ProblemError` -- ``422 invalid-scene`` with every
@@ -378,6 +381,8 @@ class Client:
             body["name"] = name
         if labels is not None:
             body["labels"] = dict(labels)
+        if callback is not None:
+            body["callback"] = callback
         return self.submit_job(body, idempotency_key=idempotency_key)
 
     def submit_job(self, job: Mapping[str, Any], *, idempotency_key: Optional[str] = None) -> Job:

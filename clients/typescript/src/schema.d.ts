@@ -640,6 +640,15 @@ export interface components {
             priority?: number;
             name?: components["schemas"]["JobName"];
             labels?: components["schemas"]["JobLabels"];
+            /**
+             * @description An `http://` URL told when the job ends: the job's JSON is POSTed there, signed with
+             *     the server's `--callback-secret` (`Brisance-Signature: t=SECONDS,v1=HEX`, HMAC-SHA256
+             *     of `SECONDS.` and the body) and retried with a doubling backoff until a `2xx`
+             *     (docs/service.md "Callbacks"). Default: the server's `--callback-url`, if any.
+             *     `https://` is not supported yet (a `422`).
+             * @example http://render-farm:9000/brisance/done
+             */
+            callback?: string;
         };
         /**
          * @description Free text naming the job on the dashboard and in lists: at most 200 characters, no
@@ -691,6 +700,25 @@ export interface components {
             meshes?: string;
             glb?: string;
         };
+        /** @description Where the job's end is told, and how the deliveries went. */
+        JobCallback: {
+            url: string;
+            /**
+             * @description `pending` until the job ends and a receiver answers `2xx` (`delivered`), or the
+             *     attempts run out (`failed`).
+             * @enum {string}
+             */
+            state: "pending" | "delivered" | "failed";
+            /** @description The attempts so far (the latest 20), oldest first. */
+            deliveries: {
+                attempt: number;
+                at: components["schemas"]["Timestamp"];
+                /** @description What the receiver answered; null when it could not be reached. */
+                status: number | null;
+                /** @description Why it could not be reached (resolve, connect, timeout); else null. */
+                error: string | null;
+            }[];
+        };
         /**
          * @example {
          *       "id": "j0f3a9c2e8b1d4f6a7c5e2b9d",
@@ -699,6 +727,7 @@ export interface components {
          *         "shot": "sq010",
          *         "artist": "kim"
          *       },
+         *       "callback": null,
          *       "status": "queued",
          *       "progress": 0,
          *       "priority": 0,
@@ -722,6 +751,8 @@ export interface components {
             id: string;
             name: components["schemas"]["JobName"];
             labels: components["schemas"]["JobLabels"];
+            /** @description The job's callback (`null` when it has none). */
+            callback: components["schemas"]["JobCallback"] | null;
             status: components["schemas"]["JobStatus"];
             /**
              * @description Share of the run's work done, 0 → 1: the steps taken against those plus the rest of

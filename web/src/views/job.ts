@@ -59,6 +59,12 @@ function infoTable(job: Job): HTMLElement {
     ["Priority", job.priority],
     ["Attempts", job.attempts],
   ];
+  if (job.callback) {
+    const last = job.callback.deliveries.at(-1);
+    rows.push(["Callback", h("span", { id: "job-callback", "data-state": job.callback.state },
+      h("code", null, job.callback.url), ` ${job.callback.state}`,
+      last ? ` (attempt ${last.attempt}: ${last.status ?? last.error ?? "no answer"})` : "")]);
+  }
   return h("table", { class: "kv" }, h("tbody", null, rows.map(([k, v]) => h("tr", null, h("th", null, k), h("td", null, v)))));
 }
 

@@ -1,0 +1,164 @@
+#include "server/callbacks.hpp"
+
+#include <algorithm>
+#include <cstdio>
+
+#include <boost/asio/connect.hpp>
+#include <boost/asio/ip/tcp.hpp>
+#include <boost/beast/core.hpp>
+#include <boost/beast/http.hpp>
+#include <boost/url/parse.hpp>
+#include <nlohmann/json.hpp>
+#include <openssl/evp.h>
+#include <openssl/hmac.h>
+
+#include "server/log.hpp"
+#include "server/routes/routes.hpp"
+
+namespace brisance::server {
+
+namespace beast = boost::beast;
+namespace http = boost::beast::http;
+using tcp = boost::asio::ip::tcp;
+using nlohmann::json;
+
+std::string callback_signature(std::string_view secret, std::int64_t unix_s,
+                               std::string_view body) {
+  const std::string stamp = std::to_string(unix_s);
+  std::string message = stamp + ".";
+  message.append(body);
+  unsigned char digest[EVP_MAX_MD_SIZE];
+  unsigned int length = 0;
+  if (!HMAC(EVP_sha256(), secret.data(), static_cast<int>(secret.size()),
+            reinterpret_cast<const unsigned char*>(message.data()), message.size(), digest,
+            &length))
+    throw std::runtime_error("libcrypto could not compute an HMAC-SHA256");
+  std::string hex = "t=" + stamp + ",v1=";
+  char pair[3];
+  for (unsigned int i = 0; i < length; ++i) {
+    std::snprintf(pair, sizeof pair, "%02x", digest[i]);
+    hex += pair;
+  }
+  return hex;
+}
+
+PostOutcome post_json(const std::string& url, const std::string& body,
+                      const std::vector<std::pair<std::string, std::string>>& headers,
+                      std::chrono::milliseconds timeout) {
+  PostOutcome outcome;
+  const auto parsed = boost::urls::parse_absolute_uri(url);
+  if (!parsed || parsed->scheme() != "http") {
+    outcome.error = "not an http:// URL";
+    return outcome;
+  }
+  const std::string host = parsed->host();
+  const std::string port = parsed->has_port() ? std::string(parsed->port()) : "80";
+  std::string target = parsed->encoded_path().empty() ? "/" : std::string(parsed->encoded_path());
+  if (parsed->has_query()) target += "?" + std::string(parsed->encoded_query());
+  try {
+    boost::asio::io_context io;
+    tcp::resolver resolver(io);
+    beast::tcp_stream stream(io);
+    stream.expires_after(timeout);
+    stream.connect(resolver.resolve(host, port));
+    http::request<http::string_body> request{http::verb::post, target, 11};
+    request.set(http::field::host, parsed->encoded_host_and_port());
+    request.set(http::field::user_agent, "brisance-callbacks");
+    request.set(http::field::content_type, "application/json");
+    for (const auto& [name, value] : headers)
+      request.set(name, value);
+    request.body() = body;
+    request.prepare_payload();
+    stream.expires_after(timeout);
+    http::write(stream, request);
+    beast::flat_buffer buffer;
+    http::response_parser<http::string_body> parser;
+    parser.body_limit(64 * 1024);  // the answer is not used; a receiver must not flood us
+    stream.expires_after(timeout);
+    http::read(stream, buffer, parser);
+    outcome.status = static_cast<int>(parser.get().result_int());
+    beast::error_code ignored;
+    stream.socket().shutdown(tcp::socket::shutdown_both, ignored);
+  } catch (const std::exception& e) {
+    outcome.status = 0;
+    outcome.error = e.what();
+  }
+  return outcome;
+}
+
+CallbackSender::CallbackSender(JobService& service, CallbackOptions options)
+    : service_(service), options_(std::move(options)), thread_([this] { run(); }) {}
+
+CallbackSender::~CallbackSender() {
+  {
+    std::lock_guard lock(mutex_);
+    stopping_ = true;
+  }
+  wake_.notify_all();
+  thread_.join();
+}
+
+void CallbackSender::run() {
+  std::unique_lock lock(mutex_);
+  while (!stopping_) {
+    lock.unlock();
+    bool sent = false;
+    try {
+      if (auto job = service_.claim_callback(options_.lease.count())) {
+        deliver(*job);
+        sent = true;
+      }
+    } catch (const std::exception& e) {
+      log_event(LogLevel::warn, "callback", {{"error", e.what()}});
+    }
+    lock.lock();
+    // Due deliveries go one after another; otherwise ask again after the poll interval.
+    if (!sent) wake_.wait_for(lock, options_.poll, [this] { return stopping_; });
+  }
+}
+
+void CallbackSender::deliver(const JobRecord& job) {
+  json deliveries = json::parse(job.callback_deliveries_json, nullptr, false);
+  if (!deliveries.is_array()) deliveries = json::array();
+  const int attempt =
+      deliveries.empty()
+          ? 1
+          : deliveries.back().value("attempt", static_cast<int>(deliveries.size())) + 1;
+  const std::string body = routes::job_json(job);
+  const std::int64_t sent_ms = now_ms();
+  std::vector<std::pair<std::string, std::string>> headers = {
+      {"Brisance-Event", "job.finished"},
+      {"Brisance-Delivery", job.id + "." + std::to_string(attempt)}};
+  if (!options_.secret.empty())
+    headers.emplace_back("Brisance-Signature",
+                         callback_signature(options_.secret, sent_ms / 1000, body));
+  const PostOutcome outcome = post_json(job.callback_url, body, headers, options_.timeout);
+  const bool delivered = outcome.status >= 200 && outcome.status < 300;
+  json entry = {{"attempt", attempt},
+                {"at", iso_time_utc(sent_ms)},
+                {"status", outcome.status > 0 ? json(outcome.status) : json(nullptr)},
+                {"error", outcome.error.empty() ? json(nullptr) : json(outcome.error)}};
+  deliveries.push_back(std::move(entry));
+  while (deliveries.size() > options_.kept_deliveries)
+    deliveries.erase(deliveries.begin());
+  std::string state = delivered ? "delivered" : "pending";
+  std::int64_t next_ms = 0;
+  if (!delivered) {
+    if (attempt >= options_.max_attempts) {
+      state = "failed";
+    } else {
+      const auto backoff =
+          std::min(options_.max_backoff, options_.first_backoff * (1 << std::min(attempt - 1, 20)));
+      next_ms = now_ms() + backoff.count();
+    }
+  }
+  log_event(LogLevel::info, "callback",
+            {{"job", job.id},
+             {"attempt", attempt},
+             {"status", outcome.status},
+             {"state", state},
+             {"error", outcome.error}});
+  service_.record_callback(job.id, deliveries.dump(), state, next_ms);
+}
+
+}  // namespace brisance::server

@@ -31,7 +31,8 @@ struct SceneObject {
 };
 
 std::optional<SceneObject> parse_object(const json& value, const std::string& pointer,
-                                        const Limits& limits, Errors& errors);
+                                        const Limits& limits, const MeshSources& meshes,
+                                        Errors& errors);
 
 // The objects one entry of `generators` makes, none if it is invalid. `objects_before`: objects
 // already in the scene, for the max_objects check before anything is generated (a generator

@@ -697,7 +697,7 @@ async function sceneSchemaAgreement(s) {
   }
 }
 
-async function assets(s) {
+async function assets(s, small) {
   section("assets: upload, get, refusals, asset and file shapes");
   const assetsDir = path.join(root, "tests", "assets");
   const glb = fs.readFileSync(path.join(assetsDir, "crate.glb"));
@@ -714,6 +714,7 @@ async function assets(s) {
   await call(s, "POST", "/v1/assets", 415, { headers: { "Content-Type": "text/plain" }, body: "v 0 0 0" });
   await call(s, "POST", "/v1/assets?format=fbx", 400, { body: "x" });
   await call(s, "POST", "/v1/assets", 413, { headers: { "Content-Type": "model/obj" }, body: Buffer.alloc(20000, 0x20), note: "over the body limit" });
+  await call(small, "POST", "/v1/assets", 413, { headers: { "Content-Type": "model/gltf-binary" }, body: glb, note: "over --max-asset-mb" });
 
   const crate = (shape) => ({ ...clone(threeBlocks), objects: [{ name: "crate", shape, position: [0, 0.5, 6], density: 500 }] });
   const assetScene = crate({ type: "asset", asset: id, node: "Crate" });
@@ -917,7 +918,7 @@ const timeout = setTimeout(() => {
 let crashed = null;
 try {
   const main = await startServer("main", ["--body-limit-mb", "0.01"]);
-  const queue = await startServer("queue", ["--max-queue", "1"]);
+  const queue = await startServer("queue", ["--max-queue", "1", "--max-asset-mb", "0.001"]);
   const keyFile = path.join(fs.mkdtempSync(path.join(os.tmpdir(), "brisance-contract-keys-")), "keys");
   const readKey = makeKey("read");
   const writeKey = makeKey("write");
@@ -926,7 +927,7 @@ try {
 
   for (const [name, run] of [["probes", () => probesAndService(main)], ["405", () => methodNotAllowed(main)],
                              ["lifecycle", () => jobsLifecycle(main)], ["submission", () => submissionErrors(main)],
-                             ["scene schema", () => sceneSchemaAgreement(main)], ["assets", () => assets(main)],
+                             ["scene schema", () => sceneSchemaAgreement(main)], ["assets", () => assets(main, queue)],
                              ["listing", () => listing(main)],
                              ["queue", () => queueAndCancel(queue)],
                              ["auth", () => authentication(auth, { read: readKey.key, write: writeKey.key })]]) {

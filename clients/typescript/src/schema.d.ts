@@ -2749,8 +2749,8 @@ export interface operations {
             401: components["responses"]["Unauthorized"];
             403: components["responses"]["Forbidden"];
             /**
-             * @description The file is larger than the asset limit (8 MiB), or the body larger than the server's
-             *     limit (`--body-limit-mb`, which closes the connection).
+             * @description The file is larger than the asset limit (`--max-asset-mb`, 8 MiB by default), or the
+             *     body larger than the server's limit (`--body-limit-mb`, which closes the connection).
              */
             413: {
                 headers: {

@@ -3,9 +3,7 @@
 // need a second library.
 #include "sim/io/mesh_import.hpp"
 
-#include <array>
 #include <cstdint>
-#include <functional>
 #include <map>
 #include <tuple>
 

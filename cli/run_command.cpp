@@ -17,6 +17,7 @@
 #include "sim/engine/simulator.hpp"
 #include "sim/io/frames.hpp"
 #include "sim/io/gltf.hpp"
+#include "sim/io/mesh_import.hpp"
 #include "sim/io/result_json.hpp"
 #include "sim/scene/scene.hpp"
 
@@ -56,9 +57,23 @@ std::string_view single_scene_path(const ParsedFlags& flags) {
   return flags.positional().front();
 }
 
+// `file` shapes: a relative path is taken from the scene file's folder, so a scene and its meshes
+// move together.
+scene::MeshSources file_meshes(std::string_view scene_path) {
+  const std::filesystem::path folder = std::filesystem::path(scene_path).parent_path();
+  scene::MeshSources sources;
+  sources.file = [folder](const scene::MeshReference& reference) {
+    const std::filesystem::path path = folder / std::filesystem::path(reference.reference);
+    io::MeshImport imported = io::import_mesh_file(path, reference.node);
+    return scene::ResolvedMesh{std::move(imported.mesh), std::move(imported.error)};
+  };
+  return sources;
+}
+
 // Parses the scene; on errors prints them all (one line each) and throws the usage error.
 scene::Scene load_scene(const ParsedFlags& flags, std::string_view path) {
-  const scene::ParseResult parsed = scene::parse_scene_text(read_file(flags, path));
+  const scene::ParseResult parsed =
+      scene::parse_scene_text(read_file(flags, path), {}, file_meshes(path));
   if (parsed.scene) return *parsed.scene;
   for (std::size_t i = 0; i + 1 < parsed.errors.size(); ++i) {
     const scene::ValidationError& e = parsed.errors[i];

@@ -50,6 +50,9 @@ constexpr std::string_view kHelp =
     "[BRISANCE_IO_THREADS]\n"
     "  --body-limit-mb M    largest request body, MiB (default 16)          "
     "[BRISANCE_BODY_LIMIT_MB]\n"
+    "  --max-asset-mb M     largest mesh file POST /v1/assets takes, MiB    "
+    "[BRISANCE_MAX_ASSET_MB]\n"
+    "                       (default 8; 413 above)\n"
     "  --max-connections N  open connections; more get 503 (default 1024) "
     "[BRISANCE_MAX_CONNECTIONS]\n"
     "  --min-free-mb M      free space the data folder keeps: below it POST  "
@@ -138,6 +141,7 @@ int run_serve(const Args& args, std::ostream& out) {
                            {"api-keys"},
                            {"io-threads"},
                            {"body-limit-mb"},
+                           {"max-asset-mb"},
                            {"max-connections"},
                            {"min-free-mb"},
                            {"job-timeout-s"},
@@ -191,6 +195,8 @@ int run_serve(const Args& args, std::ostream& out) {
   ServiceOptions service_options;
   service_options.max_queue =
       integer_setting(flags, "max-queue", "BRISANCE_MAX_QUEUE", 10000, 1, 100000000);
+  service_options.max_asset_bytes = static_cast<std::size_t>(
+      number_setting(flags, "max-asset-mb", "BRISANCE_MAX_ASSET_MB", 8, 0.001, 4096) * 1024 * 1024);
   service_options.max_attempts =
       static_cast<int>(integer_setting(flags, "max-attempts", "BRISANCE_MAX_ATTEMPTS", 3, 1, 100));
 

@@ -43,6 +43,8 @@ constexpr std::array kRoutes = {
     Route{"GET", "/v1/jobs/{id}/frames", Access::key, routes::job_frames},
     Route{"GET", "/v1/jobs/{id}/meshes", Access::key, routes::job_meshes},
     Route{"GET", "/v1/jobs/{id}/result.glb", Access::key, routes::job_glb},
+    Route{"POST", "/v1/assets", Access::key, routes::upload_asset},
+    Route{"GET", "/v1/assets/{id}", Access::key, routes::get_asset},
 };
 
 // Whether the segments match the route's path; the {id} segment is stored in `id`.

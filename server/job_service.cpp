@@ -250,7 +250,8 @@ SubmitOutcome JobService::submit(const SubmitRequest& request) {
     if (!scene_json) invalid("/scene", "missing 'scene': the scene to simulate");
   }
   if (scene_json) {
-    scene::ParseResult parsed = scene::parse_scene(*scene_json, options_.limits);
+    scene::ParseResult parsed =
+        scene::parse_scene(*scene_json, options_.limits, asset_meshes(request.owner));
     for (auto& e : parsed.errors)
       invalid("/scene" + e.pointer, std::move(e.message));
   }
@@ -300,6 +301,69 @@ SubmitOutcome JobService::submit(const SubmitRequest& request) {
   outcome.job = std::move(created.job);
   if (outcome.kind == SubmitOutcome::Kind::accepted) signal_work();
   return outcome;
+}
+
+AssetOutcome JobService::upload_asset(const AssetUpload& upload) {
+  AssetOutcome outcome;
+  if (upload.bytes.size() > options_.max_asset_bytes) {
+    outcome.kind = AssetOutcome::Kind::too_large;
+    outcome.message = "the file has " + std::to_string(upload.bytes.size()) +
+                      " bytes, more than the limit of " + std::to_string(options_.max_asset_bytes) +
+                      " bytes; simplify the mesh or split the file";
+    return outcome;
+  }
+  outcome.kind = AssetOutcome::Kind::invalid;
+  const io::MeshImport imported = io::import_mesh(upload.bytes, upload.format);
+  if (!imported.mesh) {
+    outcome.message = imported.error;
+    return outcome;
+  }
+  if (imported.mesh->vertices.size() > options_.limits.max_mesh_vertices) {
+    outcome.message = "the file has " + std::to_string(imported.mesh->vertices.size()) +
+                      " distinct vertices, more than the limit max_mesh_vertices = " +
+                      std::to_string(options_.limits.max_mesh_vertices) + "; simplify the mesh";
+    return outcome;
+  }
+  // Every mesh of the file must be closed and manifold, so any node a scene picks is too.
+  if (auto problem = geometry::check_closed_mesh(*imported.mesh)) {
+    outcome.message = "the file's meshes cannot be simulated: " + *problem +
+                      "; every mesh must be closed, with each edge shared by exactly two "
+                      "triangles wound counter-clockwise seen from outside";
+    return outcome;
+  }
+  AssetRecord record;
+  record.id = sha256_hex(upload.bytes);
+  record.owner = std::string(upload.owner);
+  record.format = std::string(io::to_string(upload.format));
+  record.size_bytes = static_cast<std::int64_t>(upload.bytes.size());
+  record.nodes_json = json(imported.nodes).dump(-1, ' ', false, json::error_handler_t::replace);
+  record.created_ms = now_ms();
+  Storage::PutAsset stored = storage_.put_asset(record, upload.bytes);
+  outcome.kind = stored.created ? AssetOutcome::Kind::created : AssetOutcome::Kind::existing;
+  outcome.asset = std::move(stored.asset);
+  return outcome;
+}
+
+scene::MeshSources JobService::asset_meshes(std::string_view owner) {
+  scene::MeshSources sources;
+  sources.asset = [this, owner = std::string(owner)](const scene::MeshReference& reference) {
+    scene::ResolvedMesh resolved;
+    const auto record = storage_.get_asset(reference.reference, std::string_view(owner));
+    const auto bytes =
+        record ? storage_.asset_bytes(reference.reference, std::string_view(owner)) : std::nullopt;
+    const auto format = record ? io::parse_mesh_format(record->format) : std::nullopt;
+    if (!record || !bytes || !format) {
+      resolved.error =
+          "no such asset; upload the mesh file with POST /v1/assets and use the id "
+          "it returns";
+      return resolved;
+    }
+    io::MeshImport imported = io::import_mesh(*bytes, *format, reference.node);
+    resolved.mesh = std::move(imported.mesh);
+    resolved.error = std::move(imported.error);
+    return resolved;
+  };
+  return sources;
 }
 
 void JobService::forget_queued_count() {

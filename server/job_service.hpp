@@ -20,6 +20,7 @@
 #include "server/storage.hpp"
 #include "sim/engine/result.hpp"
 #include "sim/io/frames.hpp"
+#include "sim/io/mesh_import.hpp"
 #include "sim/scene/scene.hpp"
 
 namespace brisance::server {
@@ -27,6 +28,7 @@ namespace brisance::server {
 struct ServiceOptions {
   std::int64_t max_queue = 10000;  // queued jobs above which submissions get 429
   int max_attempts = 3;            // claims before a job that keeps killing workers fails
+  std::size_t max_asset_bytes = 8 * 1024 * 1024;  // larger uploads to /v1/assets get 413
   scene::Limits limits;
   std::string default_callback_url;  // for jobs that name none ('' none); --callback-url
 };
@@ -89,6 +91,19 @@ struct SubmitOutcome {
   std::vector<scene::ValidationError> errors;  // invalid
 };
 
+struct AssetUpload {
+  std::string_view bytes;  // the file as uploaded
+  io::MeshFormat format = io::MeshFormat::glb;
+  std::string_view owner;  // the API key's name; empty when keys are off
+};
+
+struct AssetOutcome {
+  enum class Kind { created, existing, too_large, invalid };
+  Kind kind = Kind::created;
+  AssetRecord asset;    // created, existing
+  std::string message;  // too_large, invalid: why
+};
+
 class JobService {
  public:
   JobService(Storage& storage, ServiceOptions options);
@@ -115,6 +130,16 @@ class JobService {
     return found;
   }
   bool remove(const std::string& id);
+
+  // Stores an uploaded mesh file once it reads and every mesh in it is closed and manifold.
+  AssetOutcome upload_asset(const AssetUpload& upload);
+  // The asset `id` among `owner`'s (nullopt: anyone's).
+  std::optional<AssetRecord> asset(std::string_view id, std::optional<std::string_view> owner) {
+    return storage_.get_asset(id, owner);
+  }
+  // `asset` shapes read from the store: a scene uses the assets of the key that submits it
+  // (`owner`, empty when keys are off). Used when a job is submitted and when it runs.
+  scene::MeshSources asset_meshes(std::string_view owner);
 
   // The scene JSON a job was submitted with.
   std::optional<std::string> scene(std::string_view id) { return storage_.scene(id); }

@@ -5,6 +5,7 @@
 #include <condition_variable>
 #include <exception>
 #include <mutex>
+#include <span>
 #include <thread>
 #include <type_traits>
 #include <utility>
@@ -381,6 +382,55 @@ class PgStorage final : public Storage {
     return owned_update(id, "",
                         "DELETE FROM jobs WHERE id = $1 RETURNING pg_notify('brisance_jobs', id)",
                         pg::Params().add(id));
+  }
+
+  PutAsset put_asset(const AssetRecord& asset, std::string_view bytes) override {
+    const bool created = with_connection([&](pg::Connection& c) {
+      return c.exec(
+                  "INSERT INTO assets (owner, id, format, size_bytes, nodes, created_ms, bytes) "
+                  "VALUES ($1, $2, $3, $4, $5, $6, $7) ON CONFLICT (owner, id) DO NOTHING",
+                  pg::Params()
+                      .add(asset.owner)
+                      .add(asset.id)
+                      .add(asset.format)
+                      .add(asset.size_bytes)
+                      .add(asset.nodes_json)
+                      .add(asset.created_ms)
+                      .add_bytes(std::span<const char>(bytes.data(), bytes.size())))
+                 .affected() > 0;
+    });
+    auto stored = get_asset(asset.id, std::string_view(asset.owner));
+    if (!stored) throw StorageError("postgres: asset " + asset.id + " vanished after its insert");
+    return {std::move(*stored), created};
+  }
+
+  std::optional<AssetRecord> get_asset(std::string_view id,
+                                       std::optional<std::string_view> owner) override {
+    if (!storable(id) || (owner && !storable(*owner))) return std::nullopt;
+    return with_connection([&](pg::Connection& c) -> std::optional<AssetRecord> {
+      const pg::Result r = c.exec(
+          "SELECT id, owner, format, size_bytes, nodes, created_ms FROM assets "
+          "WHERE id = $1 AND ($2 = 0 OR owner = $3) ORDER BY created_ms, owner LIMIT 1",
+          pg::Params().add(id).add(owner ? 1 : 0).add(owner.value_or("")));
+      if (r.rows() == 0) return std::nullopt;
+      return AssetRecord{std::string(r.text(0, 0)), std::string(r.text(0, 1)),
+                         std::string(r.text(0, 2)), r.int64(0, 3),
+                         std::string(r.text(0, 4)), r.int64(0, 5)};
+    });
+  }
+
+  std::optional<std::string> asset_bytes(std::string_view id,
+                                         std::optional<std::string_view> owner) override {
+    if (!storable(id) || (owner && !storable(*owner))) return std::nullopt;
+    return with_connection([&](pg::Connection& c) -> std::optional<std::string> {
+      const pg::Result r = c.exec(
+          "SELECT bytes FROM assets WHERE id = $1 AND ($2 = 0 OR owner = $3) "
+          "ORDER BY created_ms, owner LIMIT 1",
+          pg::Params().add(id).add(owner ? 1 : 0).add(owner.value_or("")));
+      if (r.rows() == 0) return std::nullopt;
+      const std::vector<char> bytes = r.bytes<char>(0, 0);
+      return std::string(bytes.begin(), bytes.end());
+    });
   }
 
   std::optional<std::string> scene(std::string_view id) override {

@@ -534,6 +534,50 @@ class SqliteStorage final : public Storage {
     return deleted;
   }
 
+  PutAsset put_asset(const AssetRecord& asset, std::string_view bytes) override {
+    auto c = acquire();
+    bool created = false;
+    {
+      std::lock_guard write(write_mutex_);
+      Transaction tx(*c, true);
+      auto s = c->prepare(
+          "INSERT INTO assets (owner, id, format, size_bytes, nodes, created_ms, bytes) "
+          "VALUES (?, ?, ?, ?, ?, ?, ?) ON CONFLICT (owner, id) DO NOTHING");
+      s.bind(1, asset.owner).bind(2, asset.id).bind(3, asset.format);
+      s.bind(4, asset.size_bytes).bind(5, asset.nodes_json).bind(6, asset.created_ms);
+      s.bind_blob(7, std::span<const char>(bytes.data(), bytes.size()));
+      s.run();
+      created = c->changes() > 0;
+      tx.commit();
+    }
+    auto stored = get_asset(asset.id, std::string_view(asset.owner));
+    if (!stored) throw StorageError("sqlite: asset " + asset.id + " vanished after its insert");
+    return {std::move(*stored), created};
+  }
+
+  std::optional<AssetRecord> get_asset(std::string_view id,
+                                       std::optional<std::string_view> owner) override {
+    auto c = acquire();
+    auto s = c->prepare(
+        "SELECT id, owner, format, size_bytes, nodes, created_ms FROM assets "
+        "WHERE id = ? AND (? = 0 OR owner = ?) ORDER BY created_ms, owner LIMIT 1");
+    s.bind(1, id).bind(2, owner ? 1 : 0).bind(3, owner.value_or(""));
+    if (!s.step()) return std::nullopt;
+    return AssetRecord{s.text(0), s.text(1), s.text(2), s.int64(3), s.text(4), s.int64(5)};
+  }
+
+  std::optional<std::string> asset_bytes(std::string_view id,
+                                         std::optional<std::string_view> owner) override {
+    auto c = acquire();
+    auto s = c->prepare(
+        "SELECT bytes FROM assets WHERE id = ? AND (? = 0 OR owner = ?) "
+        "ORDER BY created_ms, owner LIMIT 1");
+    s.bind(1, id).bind(2, owner ? 1 : 0).bind(3, owner.value_or(""));
+    if (!s.step()) return std::nullopt;
+    const std::vector<char> bytes = s.blob<char>(0);
+    return std::string(bytes.begin(), bytes.end());
+  }
+
   std::optional<std::string> scene(std::string_view id) override {
     auto c = acquire();
     auto s = c->prepare("SELECT scene FROM jobs WHERE id = ?");

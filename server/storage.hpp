@@ -133,6 +133,18 @@ struct QueueCounts {
   std::int64_t finished_last_minute = 0;  // succeeded or failed in the last 60 s
 };
 
+// An uploaded mesh file (POST /v1/assets) that scenes name with {"type": "asset"}. Its id is
+// the SHA-256 of its bytes, so uploading the same file twice gives the same asset; like jobs,
+// an asset belongs to the API key that uploaded it.
+struct AssetRecord {
+  std::string id;      // 64 hex digits: SHA-256 of the bytes
+  std::string owner;   // the uploading API key's name; empty when keys are off
+  std::string format;  // "glb", "gltf" or "obj"
+  std::int64_t size_bytes = 0;
+  std::string nodes_json;  // JSON array of the names of the nodes with meshes
+  std::int64_t created_ms = 0;
+};
+
 enum class CancelOutcome { not_found, cancelled, requested, already_final };
 
 struct RecoveryReport {
@@ -181,6 +193,19 @@ class Storage {
   // Frames [from, to) of a succeeded job.
   virtual std::vector<StoredFrame> result_frames(std::string_view id, std::int64_t from,
                                                  std::int64_t to) = 0;
+
+  // Assets. put_asset stores the asset unless the owner already has one with that id; it returns
+  // the stored record and whether it was new. get_asset and asset_bytes look among `owner`'s
+  // assets, or among everyone's when `owner` is nullopt (no keys, an admin key, a worker).
+  struct PutAsset {
+    AssetRecord asset;
+    bool created = false;
+  };
+  virtual PutAsset put_asset(const AssetRecord& asset, std::string_view bytes) = 0;
+  virtual std::optional<AssetRecord> get_asset(std::string_view id,
+                                               std::optional<std::string_view> owner) = 0;
+  virtual std::optional<std::string> asset_bytes(std::string_view id,
+                                                 std::optional<std::string_view> owner) = 0;
 
   // Maintenance. Running jobs whose lease expired go back to the queue, or end failed once
   // they have used `max_attempts`.

@@ -144,8 +144,8 @@ void WorkerPool::run_job(ClaimedJob claimed) {
   JobStatus outcome = JobStatus::failed;
   std::string error_type, error_message;
 
-  scene::ParseResult parsed =
-      scene::parse_scene_text(claimed.scene_json, service_.options().limits);
+  scene::ParseResult parsed = scene::parse_scene_text(claimed.scene_json, service_.options().limits,
+                                                      service_.asset_meshes(claimed.job.owner));
   if (!parsed.scene) {
     // Accepted under other limits, or a store edited by hand.
     error_type = "invalid_scene";

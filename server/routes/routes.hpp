@@ -1,5 +1,5 @@
 // server/routes: the API's handlers, one file per resource — jobs (submit, list, get, delete,
-// cancel, scene), results (summary, frames, meshes, glb), blast (the calculator and the
+// cancel, scene), results (summary, frames, meshes, glb), assets (upload, get), blast (the calculator and the
 // explosives), meta (probes, metrics, the contract, the queue, the dashboard's files). Each
 // handler is a function from a matched request to a response; server/api.cpp holds the route
 // table that picks one, and the authentication in front of it.
@@ -63,6 +63,9 @@ HttpResponse job_result(const Context& c);
 HttpResponse job_frames(const Context& c);
 HttpResponse job_meshes(const Context& c);
 HttpResponse job_glb(const Context& c);
+// assets.cpp
+HttpResponse upload_asset(const Context& c);
+HttpResponse get_asset(const Context& c);
 // blast.cpp
 HttpResponse blast_calculator(const Context& c);
 HttpResponse explosives(const Context& c);

@@ -122,6 +122,22 @@ std::pair<std::size_t, std::size_t> edge_range(const std::vector<EdgeUse>& uses,
 // fault, or nullopt if every undirected edge is used exactly twice, once in each direction.
 std::optional<std::string> check_edges(const TriangleMesh& mesh) {
   const std::vector<EdgeUse> uses = sorted_edge_uses(mesh);
+  // How many undirected edges are open (one triangle) and how many are shared by more than two,
+  // so a message about the first one also says how much there is to mend.
+  std::size_t open_edges = 0;
+  std::size_t crowded_edges = 0;
+  for (std::size_t first = 0; first < uses.size();) {
+    std::size_t last = first + 1;
+    while (last < uses.size() && uses[last].low == uses[first].low &&
+           uses[last].high == uses[first].high)
+      ++last;
+    if (last - first == 1) ++open_edges;
+    if (last - first > 2) ++crowded_edges;
+    first = last;
+  }
+  const auto edges = [](std::size_t count) {
+    return std::to_string(count) + (count == 1 ? " edge" : " edges");
+  };
   for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
     const auto& tri = mesh.triangles[t];
     for (int corner = 0; corner < 3; ++corner) {
@@ -131,15 +147,17 @@ std::optional<std::string> check_edges(const TriangleMesh& mesh) {
       const std::size_t count = last - first;
       std::ostringstream message;
       if (count == 1) {
-        message << "edge (" << from << ", " << to << ") of triangle " << t
-                << " belongs to no other triangle: the mesh is open; close the hole";
+        message << "the mesh is open (" << edges(open_edges) << " open): edge (" << from << ", "
+                << to << ") of triangle " << t << " belongs to no other triangle; close the holes";
         return message.str();
       }
       if (count > 2) {
-        message << "edge (" << from << ", " << to << ") is shared by " << count << " triangles (";
+        message << "the mesh is not manifold (" << edges(crowded_edges)
+                << " shared by more than two triangles): edge (" << from << ", " << to
+                << ") is shared by " << count << " triangles (";
         for (std::size_t u = first; u < last; ++u)
           message << (u == first ? "" : ", ") << "triangle " << uses[u].triangle;
-        message << "): the mesh is not manifold; every edge must join exactly two triangles";
+        message << "); every edge must join exactly two triangles";
         return message.str();
       }
       if (uses[first].low_to_high == uses[first + 1].low_to_high) {

@@ -1,4 +1,5 @@
-// sim/scene/parse_objects: the scene's `objects[]` entries — shapes (boxes and closed meshes),
+// sim/scene/parse_objects: the scene's `objects[]` entries — shapes (boxes, closed meshes and
+// meshes named by file or uploaded asset),
 // materials, mass or density, friction and flags — and the `fracture` of a breakable pane, which
 // the window generator shares (docs/scene-format.md, docs/fracture.md).
 #include <array>
@@ -12,9 +13,13 @@ namespace brisance::scene {
 
 namespace {
 
-constexpr std::array<Choice<ShapeType>, 2> kShapeTypes = {{
-    {"box", ShapeType::box},
-    {"mesh", ShapeType::mesh},
+// The shape's `type` as written; file and asset shapes become ShapeType::mesh.
+enum class ShapeKind { box, mesh, file, asset };
+constexpr std::array<Choice<ShapeKind>, 4> kShapeTypes = {{
+    {"box", ShapeKind::box},
+    {"mesh", ShapeKind::mesh},
+    {"file", ShapeKind::file},
+    {"asset", ShapeKind::asset},
 }};
 constexpr std::array<Choice<FractureSpec::Trigger>, 2> kTriggers = {{
     {"auto", FractureSpec::Trigger::automatic},
@@ -97,13 +102,79 @@ std::optional<geometry::TriangleMesh> parse_mesh(const Fields& shape, const Limi
   return mesh;
 }
 
+// A closed mesh into object.shape and mesh, or the reason it cannot be simulated at `at`.
+void accept_mesh(geometry::TriangleMesh mesh, const std::string& at, const Limits& limits,
+                 ObjectSpec& object, Errors& errors) {
+  if (mesh.vertices.size() > limits.max_mesh_vertices) {
+    errors.add(at, "the mesh has " + std::to_string(mesh.vertices.size()) +
+                       " vertices, more than the limit max_mesh_vertices = " +
+                       std::to_string(limits.max_mesh_vertices) + "; simplify the mesh");
+  } else if (auto problem = geometry::check_closed_mesh(mesh)) {
+    errors.add(at, "the mesh cannot be simulated: " + *problem +
+                       "; give a closed mesh with triangles wound counter-clockwise seen "
+                       "from outside");
+  } else {
+    object.shape = ShapeType::mesh;
+    object.mesh = std::move(mesh);
+  }
+}
+
+// A `file` or `asset` shape: the reference and the optional node, then the mesh from `resolver`.
+void parse_mesh_reference(const json& shape, const std::string& at, ShapeKind kind,
+                          const MeshResolver& resolver, const Limits& limits, ObjectSpec& object,
+                          Errors& errors) {
+  const bool is_file = kind == ShapeKind::file;
+  const std::string_view key = is_file ? "path" : "asset";
+  const Fields fields(shape, at, errors, is_file ? "a file shape" : "an asset shape",
+                      {"type", key, "node"});
+  const ErrorScope scope(errors);
+  MeshReference reference;
+  if (const json* value = fields.require(
+          key, is_file ? "the mesh file's path (.glb, .gltf or .obj), relative to the scene file"
+                       : "the id POST /v1/assets gave for the uploaded mesh")) {
+    if (!value->is_string() || value->get_ref<const std::string&>().empty()) {
+      errors.add(fields.at(key),
+                 "'" + std::string(key) + "' must be a non-empty string; got " + describe(*value));
+    } else {
+      reference.reference = value->get<std::string>();
+    }
+  }
+  if (const json* node = fields.get("node")) {
+    if (!node->is_string() || node->get_ref<const std::string&>().empty()) {
+      errors.add(fields.at("node"),
+                 "'node' must be the name of a node in the file; got " + describe(*node));
+    } else {
+      reference.node = node->get<std::string>();
+    }
+  }
+  if (!scope.ok()) return;
+  if (!resolver) {
+    errors.add(child(at, "type"),
+               is_file ? "a 'file' shape can only be read by the CLI (brisance run or validate, "
+                         "relative to the scene file); over HTTP upload the mesh with POST "
+                         "/v1/assets and use {\"type\": \"asset\", \"asset\": ID}"
+                       : "an 'asset' shape names a mesh uploaded to the HTTP service; in a scene "
+                         "file use {\"type\": \"file\", \"path\": \"crate.glb\"}");
+    return;
+  }
+  ResolvedMesh resolved = resolver(reference);
+  if (!resolved.mesh) {
+    errors.add(at, (is_file ? "cannot read the mesh file " : "cannot use the asset ") +
+                       in_quotes(reference.reference) + ": " + resolved.error);
+    return;
+  }
+  accept_mesh(std::move(*resolved.mesh), at, limits, object, errors);
+}
+
 // The object's required `shape`, into object.shape, box_size_m and mesh; true if it is valid.
-bool parse_shape(const Fields& fields, const Limits& limits, ObjectSpec& object) {
+bool parse_shape(const Fields& fields, const Limits& limits, const MeshSources& meshes,
+                 ObjectSpec& object) {
   Errors& errors = fields.errors();
   const json* shape =
       fields.require("shape",
-                     "{\"type\": \"box\", \"size\": [x, y, z]} or {\"type\": \"mesh\", "
-                     "\"vertices\": [...], \"triangles\": [...]}");
+                     "{\"type\": \"box\", \"size\": [x, y, z]}, {\"type\": \"mesh\", "
+                     "\"vertices\": [...], \"triangles\": [...]}, {\"type\": \"file\", \"path\": "
+                     "...} or {\"type\": \"asset\", \"asset\": ID}");
   if (!shape) return false;
   const std::string at = fields.at("shape");
   if (!expect_object(*shape, at, "'shape'", errors)) return false;
@@ -113,16 +184,16 @@ bool parse_shape(const Fields& fields, const Limits& limits, ObjectSpec& object)
     errors.add(child(at, "type"), "'type' is required: one of " + join(choice_names(kShapeTypes)));
     return false;
   }
-  const std::optional<ShapeType> kind =
+  const std::optional<ShapeKind> kind =
       read_enum(*type, child(at, "type"), "type", kShapeTypes, errors);
-  if (kind == ShapeType::box) {
+  if (kind == ShapeKind::box) {
     const Fields box(*shape, at, errors, "a box shape", {"type", "size"});
     if (auto size = box.required_vec3("size", positive("m"))) {
       object.shape = ShapeType::box;
       object.box_size_m = *size;
       object.mesh = geometry::make_box(*size);
     }
-  } else if (kind == ShapeType::mesh) {
+  } else if (kind == ShapeKind::mesh) {
     const Fields mesh_fields(*shape, at, errors, "a mesh shape", {"type", "vertices", "triangles"});
     if (auto mesh = parse_mesh(mesh_fields, limits, errors)) {
       if (auto problem = geometry::check_closed_mesh(*mesh)) {
@@ -134,6 +205,10 @@ bool parse_shape(const Fields& fields, const Limits& limits, ObjectSpec& object)
         object.mesh = std::move(*mesh);
       }
     }
+  } else if (kind == ShapeKind::file) {
+    parse_mesh_reference(*shape, at, *kind, meshes.file, limits, object, errors);
+  } else if (kind == ShapeKind::asset) {
+    parse_mesh_reference(*shape, at, *kind, meshes.asset, limits, object, errors);
   }
   return scope.ok() && kind.has_value();
 }
@@ -292,7 +367,8 @@ std::uint8_t parse_sheltered(const json& value, const std::string& pointer, Erro
 }
 
 std::optional<SceneObject> parse_object(const json& value, const std::string& pointer,
-                                        const Limits& limits, Errors& errors) {
+                                        const Limits& limits, const MeshSources& meshes,
+                                        Errors& errors) {
   if (!expect_object(value, pointer, "an object", errors)) return std::nullopt;
   const ErrorScope scope(errors);
   const Fields fields(
@@ -319,7 +395,7 @@ std::optional<SceneObject> parse_object(const json& value, const std::string& po
     }
   }
 
-  const bool shape_ok = parse_shape(fields, limits, object);
+  const bool shape_ok = parse_shape(fields, limits, meshes, object);
 
   const ErrorScope placement(errors);
   object.position = fields.vec3("position", Vec3::Zero(), any_number("m"));

@@ -19,7 +19,7 @@
 
 namespace brisance::scene {
 
-ParseResult parse_scene(const json& document, const Limits& limits) {
+ParseResult parse_scene(const json& document, const Limits& limits, const MeshSources& meshes) {
   Errors errors;
   ParseResult result;
   if (!document.is_object()) {
@@ -69,7 +69,7 @@ ParseResult parse_scene(const json& document, const Limits& limits) {
                            std::to_string(limits.max_objects));
       } else {
         for (std::size_t i = 0; i < list->size(); ++i) {
-          if (auto object = parse_object((*list)[i], child(at, i), limits, errors))
+          if (auto object = parse_object((*list)[i], child(at, i), limits, meshes, errors))
             objects.push_back(std::move(*object));
         }
       }
@@ -128,7 +128,8 @@ ParseResult parse_scene(const json& document, const Limits& limits) {
   return result;
 }
 
-ParseResult parse_scene_text(std::string_view text, const Limits& limits) {
+ParseResult parse_scene_text(std::string_view text, const Limits& limits,
+                             const MeshSources& meshes) {
   json document;
   try {
     document = json::parse(text.begin(), text.end());
@@ -143,7 +144,7 @@ ParseResult parse_scene_text(std::string_view text, const Limits& limits) {
                                      detail + "; fix the JSON syntax"});
     return result;
   }
-  return parse_scene(document, limits);
+  return parse_scene(document, limits, meshes);
 }
 
 bool is_sheltered(std::uint8_t mask, const Vec3& normal) {

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -51,6 +52,7 @@ struct EnvironmentSpec {
   std::optional<GroundSpec> ground = GroundSpec{};  // null in JSON: no ground
 };
 
+// `file` and `asset` shapes are meshes once read (ShapeType::mesh).
 enum class ShapeType { box, mesh };
 
 // A breakable pane (DESIGN.md decision 9, thesis ch. 5–6): a box whose thickness is its local z
@@ -174,10 +176,31 @@ struct ParseResult {
   std::vector<ValidationError> errors;  // every problem found, not just the first
 };
 
+// Meshes that a scene names rather than contains: {"type": "file", "path": ..., "node": ...}
+// (the CLI reads it relative to the scene file) and {"type": "asset", "asset": ID, "node": ...}
+// (an asset uploaded to the HTTP service). The parser asks a resolver for the mesh and checks it
+// like an inline mesh; without a resolver for the kind, such a shape is an error that says where
+// it can be used.
+struct MeshReference {
+  std::string reference;            // the file's path as written, or the asset id
+  std::optional<std::string> node;  // the node to take; nullopt: the whole file
+};
+struct ResolvedMesh {
+  std::optional<geometry::TriangleMesh> mesh;  // m, in the frame of the node or file
+  std::string error;                           // why there is none, when `mesh` is empty
+};
+using MeshResolver = std::function<ResolvedMesh(const MeshReference&)>;
+struct MeshSources {
+  MeshResolver file;   // `file` shapes; empty: refused (the HTTP service reads no files)
+  MeshResolver asset;  // `asset` shapes; empty: refused (a scene file names files instead)
+};
+
 // Validates and converts a scene document; all errors are collected.
-ParseResult parse_scene(const nlohmann::json& document, const Limits& limits = {});
+ParseResult parse_scene(const nlohmann::json& document, const Limits& limits = {},
+                        const MeshSources& meshes = {});
 // The same from text; malformed JSON is one error with pointer "" and the parser's position.
-ParseResult parse_scene_text(std::string_view text, const Limits& limits = {});
+ParseResult parse_scene_text(std::string_view text, const Limits& limits = {},
+                             const MeshSources& meshes = {});
 
 // Named materials for `material` (density and default friction; for breakable materials also
 // Young's modulus, fracture toughness and bending strength), with their public sources. Every

@@ -36,7 +36,8 @@ struct SceneObject {
 // The object, or nullopt when its name, shape or placement is invalid. As with charges, an
 // object whose other fields have errors (in `errors`) is still returned for the scene-wide checks.
 std::optional<SceneObject> parse_object(const json& value, const std::string& pointer,
-                                        const Limits& limits, Errors& errors);
+                                        const Limits& limits, const MeshSources& meshes,
+                                        Errors& errors);
 
 // The objects one entry of `generators` makes, none if it is invalid. `objects_before`: objects
 // already in the scene, for the max_objects check before anything is generated (a generator

@@ -659,6 +659,8 @@ async function sceneSchemaAgreement(s) {
     ["empty name", edit((x) => { x.objects[0].name = ""; }), "/scene/objects/0/name"],
     ["drag_coefficient 0", edit((x) => { x.objects[0].drag_coefficient = 0; }), "/scene/objects/0/drag_coefficient"],
     ["anchored 'yes'", edit((x) => { x.objects[0].anchored = "yes"; }), "/scene/objects/0/anchored"],
+    ["file shape without path", edit((x) => { x.objects[0].shape = { type: "file", node: "Crate" }; }), "/scene/objects/0/shape/path"],
+    ["asset shape with a size", edit((x) => { x.objects[0].shape = { type: "asset", asset: "a", size: [1, 1, 1] }; }), "/scene/objects/0/shape/size"],
     ["mesh of 3 triangles", edit((x) => { x.objects[0].shape = { ...tetra, triangles: tetra.triangles.slice(0, 3) }; }), "/scene/objects/0/shape/triangles"],
     ["mesh index -1", edit((x) => { x.objects[0].shape = { ...tetra, triangles: [[0, 2, -1], ...tetra.triangles.slice(1)] }; }), "/scene/objects/0/shape/triangles/0/2"],
     ["no objects", edit((x) => { delete x.objects; }), "/scene/objects"],
@@ -693,6 +695,41 @@ async function sceneSchemaAgreement(s) {
     const pointers = (body?.errors ?? []).map((e) => e.pointer);
     expect(pointers.includes(expectedPointer), `'${name}': the server's errors point at ${pointers.join(", ")}, expected ${expectedPointer}`);
   }
+}
+
+async function assets(s, small) {
+  section("assets: upload, get, refusals, asset and file shapes");
+  const assetsDir = path.join(root, "tests", "assets");
+  const glb = fs.readFileSync(path.join(assetsDir, "crate.glb"));
+  const { body: created } = await call(s, "POST", "/v1/assets", 201, { headers: { "Content-Type": "model/gltf-binary" }, body: glb });
+  expect(JSON.stringify(created?.nodes) === JSON.stringify(["Crate", "Pallet"]), `crate.glb nodes: ${JSON.stringify(created?.nodes)}`);
+  await call(s, "POST", "/v1/assets", 200, { headers: { "Content-Type": "model/gltf-binary" }, body: glb, note: "same file again" });
+  const id = created?.id ?? "0".repeat(64);
+  await call(s, "GET", `/v1/assets/${id}`, 200);
+  await call(s, "HEAD", `/v1/assets/${id}`, 200);
+  await call(s, "GET", `/v1/assets/${"0".repeat(64)}`, 404);
+  await call(s, "POST", "/v1/assets?format=obj", 201, { body: fs.readFileSync(path.join(assetsDir, "crate.obj")), note: "OBJ by ?format" });
+  await call(s, "POST", "/v1/assets", 422, { headers: { "Content-Type": "model/obj" }, body: fs.readFileSync(path.join(assetsDir, "open_crate.obj")), note: "open mesh" });
+  await call(s, "POST", "/v1/assets", 422, { headers: { "Content-Type": "model/gltf+json" }, body: "{}", note: "not glTF" });
+  await call(s, "POST", "/v1/assets", 415, { headers: { "Content-Type": "text/plain" }, body: "v 0 0 0" });
+  await call(s, "POST", "/v1/assets?format=fbx", 400, { body: "x" });
+  await call(s, "POST", "/v1/assets", 413, { headers: { "Content-Type": "model/obj" }, body: Buffer.alloc(20000, 0x20), note: "over the body limit" });
+  await call(small, "POST", "/v1/assets", 413, { headers: { "Content-Type": "model/gltf-binary" }, body: glb, note: "over --max-asset-mb" });
+
+  const crate = (shape) => ({ ...clone(threeBlocks), objects: [{ name: "crate", shape, position: [0, 0.5, 6], density: 500 }] });
+  const assetScene = crate({ type: "asset", asset: id, node: "Crate" });
+  expect(schemaAccepts("Scene", assetScene), "Scene schema rejects an asset shape");
+  const { job } = await submit(s, assetScene, 202);
+  if (job) {
+    const done = await waitFor(s, job.id, (j) => j.status === "succeeded" || j.status === "failed", "finished");
+    expect(done?.status === "succeeded", `the asset job ended ${done?.status}`);
+    await call(s, "DELETE", `/v1/jobs/${job.id}`, 204);
+  }
+  const fileScene = crate({ type: "file", path: "crate.glb" });
+  expect(schemaAccepts("Scene", fileScene), "Scene schema rejects a file shape");
+  const { body: refused } = await call(s, "POST", "/v1/jobs", 422, { headers: json, body: { scene: fileScene }, note: "file shape over HTTP" });
+  const pointers = (refused?.errors ?? []).map((e) => e.pointer);
+  expect(pointers.includes("/scene/objects/0/shape/type"), `file shape over HTTP: errors at ${pointers.join(", ")}`);
 }
 
 async function listing(s) {
@@ -881,7 +918,7 @@ const timeout = setTimeout(() => {
 let crashed = null;
 try {
   const main = await startServer("main", ["--body-limit-mb", "0.01"]);
-  const queue = await startServer("queue", ["--max-queue", "1"]);
+  const queue = await startServer("queue", ["--max-queue", "1", "--max-asset-mb", "0.001"]);
   const keyFile = path.join(fs.mkdtempSync(path.join(os.tmpdir(), "brisance-contract-keys-")), "keys");
   const readKey = makeKey("read");
   const writeKey = makeKey("write");
@@ -890,7 +927,8 @@ try {
 
   for (const [name, run] of [["probes", () => probesAndService(main)], ["405", () => methodNotAllowed(main)],
                              ["lifecycle", () => jobsLifecycle(main)], ["submission", () => submissionErrors(main)],
-                             ["scene schema", () => sceneSchemaAgreement(main)], ["listing", () => listing(main)],
+                             ["scene schema", () => sceneSchemaAgreement(main)], ["assets", () => assets(main, queue)],
+                             ["listing", () => listing(main)],
                              ["queue", () => queueAndCancel(queue)],
                              ["auth", () => authentication(auth, { read: readKey.key, write: writeKey.key })]]) {
     try {

@@ -33,7 +33,8 @@ struct TestServerOptions {
   int workers = 1;
   std::int64_t max_queue = 1000;
   std::size_t body_limit_bytes = 1 << 20;
-  std::string api_keys;  // keys-file text; empty: no keys
+  std::size_t max_asset_bytes = 512 * 1024;  // POST /v1/assets above it: 413
+  std::string api_keys;                      // keys-file text; empty: no keys
   std::chrono::milliseconds lease{15000};
   std::size_t max_connections = 1024;
   std::int64_t max_db_bytes = 0;  // 0: no limit (see SqliteOptions::max_size_bytes)
@@ -72,6 +73,7 @@ class TestServer {
     server::ServiceOptions service_options;
     service_options.max_queue = options.max_queue;
     service_options.default_callback_url = options.default_callback_url;
+    service_options.max_asset_bytes = options.max_asset_bytes;
     service_ = std::make_unique<server::JobService>(*storage_, service_options);
     if (options.callbacks)
       callbacks_ = std::make_unique<server::CallbackSender>(*service_, *options.callbacks);

@@ -577,6 +577,35 @@ class Client:
 
     # ----------------------------------------------------------------- service
 
+    # ----------------------------------------------------------------- assets
+
+    ASSET_MEDIA_TYPES = {"glb": "model/gltf-binary", "gltf": "model/gltf+json",
+                         "obj": "model/obj"}
+
+    def upload_asset(self, data: Union[bytes, str, "os.PathLike[str]"],
+                     format: Optional[str] = None) -> Dict[str, Any]:
+        """Upload a mesh file (``POST /v1/assets``): GLB, glTF with embedded buffers, or OBJ,
+        in metres. ``data`` is the file's bytes or its path; ``format`` (``glb``, ``gltf``,
+        ``obj``) defaults to the path's extension. Returns the asset (``id``, ``format``,
+        ``size_bytes``, ``nodes``); a scene names it as ``{"type": "asset", "asset": id,
+        "node": name}``. Uploading the same file again returns the same asset. Raises
+        :class:`ProblemError` -- ``422 invalid-asset`` with the reason for a mesh that is not
+        closed or not manifold, ``413`` for a file over the limit."""
+        if not isinstance(data, bytes):
+            path = os.fspath(data)
+            if format is None:
+                format = os.path.splitext(path)[1].lstrip(".").lower()
+            with open(path, "rb") as handle:
+                data = handle.read()
+        if format not in self.ASSET_MEDIA_TYPES:
+            raise ValueError("format must be one of glb, gltf, obj; got %r" % (format,))
+        return self.request("POST", "/v1/assets", body=data, ok=(200, 201),
+                            headers={"Content-Type": self.ASSET_MEDIA_TYPES[format]}).json()
+
+    def asset(self, asset_id: str) -> Dict[str, Any]:
+        """An uploaded asset (``GET /v1/assets/{id}``)."""
+        return self._json("GET", "/v1/assets/" + urllib.parse.quote(asset_id, safe=""))
+
     def blast(self, charge_kg: float, distance_m: float, *, explosive: Optional[str] = None,
               burst: Optional[str] = None, angle_deg: Optional[float] = None) -> Dict[str, Any]:
         """Blast-wave numbers at ``distance_m`` from ``charge_kg`` (Kingery-Bulmash)."""

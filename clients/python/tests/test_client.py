@@ -268,6 +268,26 @@ class JobsTest(ServerTestCase):
         self.assertEqual(self.client.scene(job.id), THREE_BLOCKS)
         self.assertEqual(len(self.client.meshes(job)["bodies"]), 3)
 
+    def test_upload_asset_and_blow_up_the_crate(self) -> None:
+        assets = REPO / "tests" / "assets"
+        asset = self.client.upload_asset(assets / "crate.glb")
+        self.assertEqual(asset["format"], "glb")
+        self.assertEqual(asset["nodes"], ["Crate", "Pallet"])
+        self.assertEqual(len(asset["id"]), 64)
+        self.assertEqual(self.client.upload_asset((assets / "crate.glb").read_bytes(), "glb"),
+                         asset)
+        self.assertEqual(self.client.asset(asset["id"]), asset)
+        with self.assertRaises(ProblemError) as caught:
+            self.client.upload_asset(assets / "open_crate.obj")
+        self.assertEqual(caught.exception.status, 422)
+        self.assertIn("4 edges open", str(caught.exception))
+        scene = copy.deepcopy(THREE_BLOCKS)
+        scene["objects"] = [{"name": "crate", "position": [0, 0.3, 6], "density": 500,
+                             "shape": {"type": "asset", "asset": asset["id"], "node": "Crate"}}]
+        done = self.client.wait(self.client.submit(scene), timeout=30)
+        self.assertEqual(done.status, "succeeded")
+        self.assertAlmostEqual(self.client.result(done)["bodies"][0]["mass"], 240.0, places=3)
+
     def test_frames_binary_and_json_agree(self) -> None:
         job = self.submit_and_wait()
         binary = list(self.client.frames(job))

@@ -19,6 +19,8 @@ export type ResultSummary = Schemas["ResultSummary"];
 export type RunWarning = Schemas["RunWarning"];
 export type Frames = Schemas["Frames"];
 export type Meshes = Schemas["Meshes"];
+export type Asset = Schemas["Asset"];
+export type AssetFormat = Asset["format"];
 export type Charge = Schemas["Charge"];
 export type PointerError = Schemas["PointerError"];
 export type ParameterError = Schemas["ParameterError"];
@@ -116,6 +118,26 @@ export class BrisanceClient {
       headers, body: JSON.stringify(request), signal: options.signal,
     });
     return (await response.json()) as Job;
+  }
+
+  // -------------------------------------------------------------------------------- assets
+
+  /**
+   * `POST /v1/assets`: uploads a mesh file (GLB, glTF with embedded buffers, or OBJ; metres) for
+   * scenes to name as `{type: "asset", asset: id, node}`. Answers the stored asset, new (201) or
+   * the same file uploaded before (200); an open or non-manifold mesh is a ProblemError 422.
+   */
+  async uploadAsset(file: ArrayBuffer | Blob, format: AssetFormat,
+                    options: RequestOptions = {}): Promise<Asset> {
+    const response = await this.send("POST", this.url("/v1/assets", { format }), {
+      headers: { "Content-Type": ASSET_MEDIA_TYPES[format] }, body: file, signal: options.signal,
+    });
+    return (await response.json()) as Asset;
+  }
+
+  /** `GET /v1/assets/{id}`: an uploaded asset's format, size and nodes. */
+  async getAsset(id: string, options: RequestOptions = {}): Promise<Asset> {
+    return this.getJson<Asset>(`/v1/assets/${encodeURIComponent(id)}`, {}, options);
   }
 
   /**
@@ -220,7 +242,8 @@ export class BrisanceClient {
 
   /** Sends one request; any status but 2xx and 304 is thrown as a ProblemError. */
   private async send(method: string, url: string,
-                     init: { headers?: Record<string, string>; body?: string; signal?: AbortSignal | undefined }):
+                     init: { headers?: Record<string, string>; body?: string | ArrayBuffer | Blob;
+                             signal?: AbortSignal | undefined }):
       Promise<Response> {
     const headers: Record<string, string> = { Accept: "application/json", ...init.headers };
     const key = typeof this.keySource === "function" ? this.keySource() : this.keySource;
@@ -245,6 +268,12 @@ export class BrisanceClient {
     throw await problemFrom(response);
   }
 }
+
+const ASSET_MEDIA_TYPES: Record<AssetFormat, string> = {
+  glb: "model/gltf-binary",
+  gltf: "model/gltf+json",
+  obj: "model/obj",
+};
 
 /** Reads a failed response as a ProblemError (problem+json when it is one). */
 export async function problemFrom(response: Response): Promise<ProblemError> {

@@ -327,6 +327,58 @@ export interface paths {
         patch?: never;
         trace?: never;
     };
+    "/v1/assets": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        get?: never;
+        put?: never;
+        /**
+         * Upload a mesh file
+         * @description The raw bytes of a glTF 2.0 file (`.glb`, or `.gltf` with its buffers embedded as data
+         *     URIs) or a Wavefront OBJ file, in metres. The format comes from the `format` parameter
+         *     or else from `Content-Type`. Every mesh in the file must be closed and manifold (each
+         *     edge shared by exactly two triangles, wound consistently), or it is a `422` with the
+         *     reason. The id is the SHA-256 of the bytes: the same file again gives the same asset
+         *     (`200`). A scene uses it as `{"type": "asset", "asset": ID, "node": NAME}`. An asset
+         *     belongs to the API key that uploaded it, and a scene may use only its key's assets.
+         */
+        post: operations["uploadAsset"];
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/v1/assets/{id}": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path: {
+                /**
+                 * @description The asset id (64 lowercase hex digits, the SHA-256 of the file).
+                 * @example c670b77a49a6c2d5e3edf391b331e6ff980ebf36612d825bc659c6a838c48f91
+                 */
+                id: components["parameters"]["AssetId"];
+            };
+            cookie?: never;
+        };
+        /**
+         * An uploaded mesh file
+         * @description The asset's format, size and nodes; an asset never changes.
+         */
+        get: operations["getAsset"];
+        put?: never;
+        post?: never;
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
     "/v1/queue": {
         parameters: {
             query?: never;
@@ -397,7 +449,7 @@ export type webhooks = Record<string, never>;
 export interface components {
     schemas: {
         /** @description The stable URN naming a kind of problem. */
-        ProblemType: "urn:brisance:problem:bad-request" | "urn:brisance:problem:malformed-json" | "urn:brisance:problem:invalid-parameter" | "urn:brisance:problem:unauthorized" | "urn:brisance:problem:forbidden" | "urn:brisance:problem:not-found" | "urn:brisance:problem:method-not-allowed" | "urn:brisance:problem:not-acceptable" | "urn:brisance:problem:job-finished" | "urn:brisance:problem:result-not-ready" | "urn:brisance:problem:payload-too-large" | "urn:brisance:problem:unsupported-media-type" | "urn:brisance:problem:invalid-scene" | "urn:brisance:problem:idempotency-key-reused" | "urn:brisance:problem:insufficient-storage" | "urn:brisance:problem:overloaded" | "urn:brisance:problem:queue-full" | "urn:brisance:problem:internal-error" | "urn:brisance:problem:storage-unavailable";
+        ProblemType: "urn:brisance:problem:bad-request" | "urn:brisance:problem:malformed-json" | "urn:brisance:problem:invalid-parameter" | "urn:brisance:problem:unauthorized" | "urn:brisance:problem:forbidden" | "urn:brisance:problem:not-found" | "urn:brisance:problem:method-not-allowed" | "urn:brisance:problem:not-acceptable" | "urn:brisance:problem:job-finished" | "urn:brisance:problem:result-not-ready" | "urn:brisance:problem:payload-too-large" | "urn:brisance:problem:unsupported-media-type" | "urn:brisance:problem:invalid-scene" | "urn:brisance:problem:idempotency-key-reused" | "urn:brisance:problem:invalid-asset" | "urn:brisance:problem:insufficient-storage" | "urn:brisance:problem:overloaded" | "urn:brisance:problem:queue-full" | "urn:brisance:problem:internal-error" | "urn:brisance:problem:storage-unavailable";
         /** @description An RFC 9457 problem; `type` says which (see `ProblemType`). */
         Problem: {
             type: components["schemas"]["ProblemType"];
@@ -523,6 +575,29 @@ export interface components {
             /** @constant */
             status?: 415;
             errors?: never;
+        };
+        InvalidAssetProblem: components["schemas"]["Problem"] & {
+            /** @constant */
+            type?: "urn:brisance:problem:invalid-asset";
+            /** @constant */
+            status?: 422;
+            errors?: never;
+        };
+        Asset: {
+            /** @description SHA-256 of the file's bytes. */
+            id: string;
+            /** @enum {string} */
+            format: "glb" | "gltf" | "obj";
+            size_bytes: number;
+            /**
+             * @description The names of the file's nodes that hold meshes (directly or below them), depth first
+             *     in file order: what a shape's `node` may name.
+             */
+            nodes: string[];
+            created_at: components["schemas"]["Timestamp"];
+            links: {
+                self: string;
+            };
         };
         InvalidSceneProblem: components["schemas"]["Problem"] & {
             /** @constant */
@@ -1468,8 +1543,39 @@ export interface components {
             /** @description Pa. */
             youngs_modulus?: number;
         };
-        /** @description A box or a closed triangle mesh, in the object's own frame. */
-        Shape: components["schemas"]["BoxShape"] | components["schemas"]["MeshShape"];
+        /**
+         * @description A box, a closed triangle mesh, or a closed mesh from a file: `file` in scene files read
+         *     by the CLI (the HTTP service reads no files and answers `422`), `asset` for a file
+         *     uploaded with `POST /v1/assets`. Shapes are in the object's own frame.
+         */
+        Shape: components["schemas"]["BoxShape"] | components["schemas"]["MeshShape"] | components["schemas"]["FileShape"] | components["schemas"]["AssetShape"];
+        /**
+         * @description A mesh file (`.glb`, `.gltf`, `.obj`; metres) relative to the scene file's folder; only
+         *     the CLI (`brisance run`, `brisance validate`) reads it. Over HTTP this is a `422` at
+         *     `type`: upload the file and use an `asset` shape.
+         */
+        FileShape: {
+            /**
+             * @description discriminator enum property added by openapi-typescript
+             * @enum {string}
+             */
+            type: "file";
+            path: string;
+            /** @description The node to take, in its own frame; the whole file when absent. */
+            node?: string;
+        };
+        /** @description A mesh file uploaded with `POST /v1/assets` by the same API key. */
+        AssetShape: {
+            /**
+             * @description discriminator enum property added by openapi-typescript
+             * @enum {string}
+             */
+            type: "asset";
+            /** @description The id `POST /v1/assets` answered. */
+            asset: string;
+            /** @description The node to take, in its own frame; the whole file when absent. */
+            node?: string;
+        };
         BoxShape: {
             /**
              * @description discriminator enum property added by openapi-typescript
@@ -1905,6 +2011,11 @@ export interface components {
          */
         JobId: string;
         /**
+         * @description The asset id (64 lowercase hex digits, the SHA-256 of the file).
+         * @example c670b77a49a6c2d5e3edf391b331e6ff980ebf36612d825bc659c6a838c48f91
+         */
+        AssetId: string;
+        /**
          * @description The client's id for this request, echoed in the response's `X-Request-Id` and logged when
          *     it is 1-64 characters of `A-Z a-z 0-9 . _ -`; otherwise the server makes one.
          * @example render-42.attempt-1
@@ -1923,6 +2034,8 @@ export interface components {
         "X-Request-Id": string;
         /** @description The job's URL path. */
         Location: string;
+        /** @description The asset's URL path. */
+        AssetLocation: string;
         /** @description Seconds to wait before asking again. */
         "Retry-After": number;
         /**
@@ -2672,6 +2785,152 @@ export interface operations {
             401: components["responses"]["Unauthorized"];
             404: components["responses"]["JobNotFound"];
             409: components["responses"]["ResultNotReady"];
+            500: components["responses"]["InternalError"];
+            503: components["responses"]["StorageUnavailable"];
+        };
+    };
+    uploadAsset: {
+        parameters: {
+            query?: {
+                /** @description The file's format; overrides `Content-Type`. */
+                format?: "glb" | "gltf" | "obj";
+            };
+            header?: {
+                /**
+                 * @description The client's id for this request, echoed in the response's `X-Request-Id` and logged when
+                 *     it is 1-64 characters of `A-Z a-z 0-9 . _ -`; otherwise the server makes one.
+                 * @example render-42.attempt-1
+                 */
+                "X-Request-Id"?: components["parameters"]["RequestId"];
+            };
+            path?: never;
+            cookie?: never;
+        };
+        /** @description The mesh file. */
+        requestBody: {
+            content: {
+                "model/gltf-binary": string;
+                "model/gltf+json": string;
+                "model/obj": string;
+            };
+        };
+        responses: {
+            /** @description The same file was uploaded before by this key; its asset. */
+            200: {
+                headers: {
+                    "X-Request-Id": components["headers"]["X-Request-Id"];
+                    Location: components["headers"]["AssetLocation"];
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["Asset"];
+                };
+            };
+            /** @description Stored. */
+            201: {
+                headers: {
+                    "X-Request-Id": components["headers"]["X-Request-Id"];
+                    Location: components["headers"]["AssetLocation"];
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["Asset"];
+                };
+            };
+            400: components["responses"]["InvalidParameter"];
+            401: components["responses"]["Unauthorized"];
+            403: components["responses"]["Forbidden"];
+            /**
+             * @description The file is larger than the asset limit (`--max-asset-mb`, 8 MiB by default), or the
+             *     body larger than the server's limit (`--body-limit-mb`, which closes the connection).
+             */
+            413: {
+                headers: {
+                    "X-Request-Id": components["headers"]["X-Request-Id"];
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["PayloadTooLargeProblem"];
+                };
+            };
+            /** @description No `format` parameter and a `Content-Type` that is not one of the three. */
+            415: {
+                headers: {
+                    "X-Request-Id": components["headers"]["X-Request-Id"];
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["UnsupportedMediaTypeProblem"];
+                };
+            };
+            /** @description The file does not read, or a mesh in it is not closed or not manifold. */
+            422: {
+                headers: {
+                    "X-Request-Id": components["headers"]["X-Request-Id"];
+                    [name: string]: unknown;
+                };
+                content: {
+                    /**
+                     * @example {
+                     *       "type": "urn:brisance:problem:invalid-asset",
+                     *       "title": "Invalid asset",
+                     *       "status": 422,
+                     *       "detail": "the file's meshes cannot be simulated: the mesh is open (4 edges open): edge (0, 1) of triangle 0 belongs to no other triangle; close the holes; every mesh must be closed, with each edge shared by exactly two triangles wound counter-clockwise seen from outside"
+                     *     }
+                     */
+                    "application/problem+json": components["schemas"]["InvalidAssetProblem"];
+                };
+            };
+            500: components["responses"]["InternalError"];
+            503: components["responses"]["StorageUnavailable"];
+        };
+    };
+    getAsset: {
+        parameters: {
+            query?: never;
+            header?: {
+                /**
+                 * @description The client's id for this request, echoed in the response's `X-Request-Id` and logged when
+                 *     it is 1-64 characters of `A-Z a-z 0-9 . _ -`; otherwise the server makes one.
+                 * @example render-42.attempt-1
+                 */
+                "X-Request-Id"?: components["parameters"]["RequestId"];
+            };
+            path: {
+                /**
+                 * @description The asset id (64 lowercase hex digits, the SHA-256 of the file).
+                 * @example c670b77a49a6c2d5e3edf391b331e6ff980ebf36612d825bc659c6a838c48f91
+                 */
+                id: components["parameters"]["AssetId"];
+            };
+            cookie?: never;
+        };
+        requestBody?: never;
+        responses: {
+            /** @description The asset. */
+            200: {
+                headers: {
+                    "X-Request-Id": components["headers"]["X-Request-Id"];
+                    /** @description The id is the content's hash, so the answer never changes. */
+                    "Cache-Control": "private, max-age=31536000, immutable";
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["Asset"];
+                };
+            };
+            400: components["responses"]["MalformedRequest"];
+            401: components["responses"]["Unauthorized"];
+            /** @description No such asset, or one of another API key. */
+            404: {
+                headers: {
+                    "X-Request-Id": components["headers"]["X-Request-Id"];
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["NotFoundProblem"];
+                };
+            };
             500: components["responses"]["InternalError"];
             503: components["responses"]["StorageUnavailable"];
         };

@@ -332,6 +332,7 @@ TEST(CheckClosedMesh, RejectsAnOpenMesh) {
   box.triangles.pop_back();
   std::string message = rejection(box);
   EXPECT_TRUE(contains(message, "open")) << message;
+  EXPECT_TRUE(contains(message, "3 edges open")) << message;  // the missing triangle's rim
 
   TriangleMesh single;
   single.vertices = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0)};
@@ -346,6 +347,7 @@ TEST(CheckClosedMesh, RejectsADuplicatedTriangleAsNonManifold) {
   box.triangles.push_back(box.triangles[3]);
   const std::string message = rejection(box);
   EXPECT_TRUE(contains(message, "not manifold")) << message;
+  EXPECT_TRUE(contains(message, "3 edges shared by more than two triangles")) << message;
   EXPECT_TRUE(contains(message, "3 triangles")) << message;
   EXPECT_TRUE(contains(message, "triangle 3")) << message;
   EXPECT_TRUE(contains(message, "triangle 12")) << message;

@@ -91,6 +91,60 @@ TEST(SceneObjects, MeshValuesAreCheckedElementByElement) {
   single_error(doc, "/objects/0/shape/vertices");
 }
 
+// `file` and `asset` shapes: the parser asks the resolver of their kind and checks what it gets.
+TEST(SceneObjects, FileAndAssetShapesTakeTheirMeshFromTheResolver) {
+  geometry::TriangleMesh tetrahedron;
+  tetrahedron.vertices = {Vec3(0, 0, 0), Vec3(1, 0, 0), Vec3(0, 1, 0), Vec3(0, 0, 1)};
+  tetrahedron.triangles = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}};
+  std::vector<MeshReference> asked;
+  ResolvedMesh answer{tetrahedron, {}};
+  MeshSources sources;
+  sources.file = [&](const MeshReference& reference) {
+    asked.push_back(reference);
+    return answer;
+  };
+  json doc = minimal_scene();
+  doc["objects"][0]["shape"] = {{"type", "file"}, {"path", "props/crate.glb"}, {"node", "Crate"}};
+  doc["objects"][0]["position"] = {0, 0, 0};
+  doc["objects"][0].erase("mass");
+  doc["objects"][0]["density"] = 600;
+  ParseResult parsed = parse_scene(doc, {}, sources);
+  ASSERT_TRUE(parsed.scene) << dump_errors(parsed);
+  ASSERT_EQ(asked.size(), 1u);
+  EXPECT_EQ(asked[0].reference, "props/crate.glb");
+  EXPECT_EQ(asked[0].node, std::optional<std::string>("Crate"));
+  EXPECT_EQ(parsed.scene->objects[0].shape, ShapeType::mesh);
+  EXPECT_EQ(parsed.scene->objects[0].mesh.vertices.size(), 4u);
+  EXPECT_NEAR(parsed.scene->objects[0].mass_kg, 600.0 / 6.0, 1e-9);  // density x volume
+
+  // The resolver's error and the closedness check are reported at the shape.
+  answer = {std::nullopt, "no node named 'Crate'"};
+  parsed = parse_scene(doc, {}, sources);
+  ASSERT_EQ(parsed.errors.size(), 1u) << dump_errors(parsed);
+  EXPECT_EQ(parsed.errors[0].pointer, "/objects/0/shape");
+  EXPECT_TRUE(contains(parsed.errors[0].message, "no node named 'Crate'"));
+  geometry::TriangleMesh open = tetrahedron;
+  open.triangles.pop_back();
+  answer = {open, {}};
+  parsed = parse_scene(doc, {}, sources);
+  ASSERT_EQ(parsed.errors.size(), 1u) << dump_errors(parsed);
+  EXPECT_EQ(parsed.errors[0].pointer, "/objects/0/shape");
+  EXPECT_TRUE(contains(parsed.errors[0].message, "the mesh is open (3 edges open)"))
+      << parsed.errors[0].message;
+
+  // Without a resolver for the kind (the service has no files, the CLI no assets).
+  EXPECT_TRUE(contains(single_error(doc, "/objects/0/shape/type"), "POST /v1/assets"));
+  doc["objects"][0]["shape"] = {{"type", "asset"}, {"asset", "c0ffee"}};
+  EXPECT_TRUE(contains(single_error(doc, "/objects/0/shape/type"), "uploaded to the HTTP service"));
+  // Malformed references are reported at their field, and the resolver is not asked.
+  asked.clear();
+  doc["objects"][0]["shape"] = {{"type", "file"}, {"node", 3}};
+  parsed = parse_scene(doc, {}, sources);
+  EXPECT_TRUE(find_error(parsed, "/objects/0/shape/path")) << dump_errors(parsed);
+  EXPECT_TRUE(find_error(parsed, "/objects/0/shape/node")) << dump_errors(parsed);
+  EXPECT_TRUE(asked.empty());
+}
+
 TEST(SceneObjects, OpenOrInvertedMeshesAreRejectedWithTheGeometryMessage) {
   json doc = minimal_scene();
   doc["objects"][0]["shape"] = tetrahedron_shape();

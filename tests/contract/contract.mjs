@@ -441,6 +441,29 @@ async function probesAndService(s) {
     expect(body?.errors?.[0]?.parameter === parameter, `/v1/blast?${query}: errors[0].parameter ${body?.errors?.[0]?.parameter}, expected ${parameter}`);
   }
 
+  // Every bad parameter at once.
+  const { body: many } = await call(s, "GET", "/v1/blast?charge_kg=-1&distance_m=x&angle_deg=91", 400, { note: "three bad parameters" });
+  expect(many?.errors?.map((e) => e.parameter).join(",") === "charge_kg,distance_m,angle_deg",
+         `/v1/blast three bad parameters: ${JSON.stringify(many?.errors)}`);
+  expect(blast?.inputs?.explosive === "TNT" && blast?.inputs?.charge_kg === 100, `/v1/blast echoes its inputs: ${JSON.stringify(blast?.inputs)}`);
+
+  // The structural-response calculators (docs/response.md).
+  const wall = JSON.parse(fs.readFileSync(path.join(root, "scenes", "elements", "rc_wall.json"), "utf8"));
+  const { body: response } = await call(s, "POST", "/v1/response", 200, { headers: json, body: { element: wall, charge: { charge_kg: 100, distance_m: 15 } } });
+  expect(response && response.peak_displacement_m > 0 && typeof response.damage === "string", `/v1/response: ${JSON.stringify(response)?.slice(0, 200)}`);
+  expect(response?.load?.peak_pressure_kpa === blast?.reflected_overpressure_kpa, "/v1/response loads with the /v1/blast reflected pressure");
+  await call(s, "POST", "/v1/response", 200, { headers: json, body: { element: wall, pulse: { peak_kpa: 100, duration_ms: 10, shape: "friedlander" }, history: false }, note: "pulse, no history" });
+  await call(s, "POST", "/v1/response", 400, { headers: json, body: "{not json" });
+  await call(s, "POST", "/v1/response", 415, { headers: { "Content-Type": "text/plain" }, body: "x" });
+  const { body: bad } = await call(s, "POST", "/v1/response", 422, { headers: json, body: { element: { ...wall, mass_kg: -1 }, pulse: { peak_kpa: 0, duration_ms: 1 } } });
+  expect(bad?.errors?.map((e) => e.pointer).join(",") === "/element/mass_kg,/pulse/peak_kpa", `/v1/response 422 pointers: ${JSON.stringify(bad?.errors)}`);
+  await call(s, "POST", "/v1/response", 422, { headers: json, body: { element: wall, pulse: { peak_kpa: 1, duration_ms: 1e9 } }, note: "unbounded work" });
+  const { body: pi } = await call(s, "POST", "/v1/pi", 200, { headers: json, body: { element: wall, ductility: 3, points: 10 } });
+  expect(pi?.points?.length === 10 && pi.impulsive_asymptote_kpa_ms > 0, `/v1/pi: ${JSON.stringify(pi)?.slice(0, 200)}`);
+  await call(s, "POST", "/v1/pi", 400, { headers: json, body: "[" });
+  await call(s, "POST", "/v1/pi", 415, { headers: { "Content-Type": "text/plain" }, body: "x" });
+  await call(s, "POST", "/v1/pi", 422, { headers: json, body: { element: wall, points: 1000 } });
+
   const { body: metrics, response: metricsResponse } = await call(s, "GET", "/metrics", 200);
   expect(metricsResponse.headers["content-type"] === "text/plain; version=0.0.4; charset=utf-8",
          `/metrics Content-Type ${metricsResponse.headers["content-type"]}`);

@@ -30,7 +30,7 @@ EXIT_FAILURE = 1
 EXIT_INVALID = 2
 
 # Problems that mean "your input is wrong" rather than "something failed".
-_INPUT_PROBLEMS = {"malformed-json", "invalid-parameter", "invalid-scene",
+_INPUT_PROBLEMS = {"malformed-json", "invalid-parameter", "invalid-scene", "invalid-input",
                    "idempotency-key-reused", "payload-too-large", "unsupported-media-type"}
 
 

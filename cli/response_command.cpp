@@ -51,7 +51,7 @@ constexpr std::string_view kPiHelp =
     "  --ductility MU      limit as a ductility ratio, 0 < MU <= 100 (default 1: first yield;\n"
     "                      not for an elastic element)\n"
     "  --rotation-deg T    or as a support rotation, 0 < T <= 45 (needs support.span_m)\n"
-    "  --points N          durations in the sweep, 2..200 (default 60)\n"
+    "  --points N          durations in the sweep, 2..100 (default 60)\n"
     "  -o FILE             write the curve as SVG (log-log, with both asymptotes) or JSON\n"
     "                      (the fields of POST /v1/pi); without -o, print a table\n";
 

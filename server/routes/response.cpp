@@ -1,6 +1,6 @@
 // server/routes/response: POST /v1/response (an element's SDOF response to a charge or a pulse)
 // and POST /v1/pi (its P–I curve), synchronous like GET /v1/blast. sim/io/response_json checks
-// the body completely and bounds the work (a load of at most 1e4 natural periods, at most 200
+// the body completely and bounds the work (a load of at most 2000 natural periods, at most 100
 // P–I points, ductility <= 100, rotation <= 45 deg), so each answer costs milliseconds.
 #include <nlohmann/json.hpp>
 

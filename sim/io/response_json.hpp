@@ -51,11 +51,11 @@ void parse_pulse_query(const std::function<std::optional<std::string>(std::strin
 
 // The longest run a request may ask for, in natural periods of the element: the load's end (its
 // arrival plus its duration) may be at most this many periods, so one solve is at most about
-// 32 x kMaxLoadPeriods steps (the solver steps at most T/32).
-inline constexpr double kMaxLoadPeriods = 1e4;
+// 32 x (kMaxLoadPeriods + 3) steps (the solver steps at T/32 once the pulse is over).
+inline constexpr double kMaxLoadPeriods = 2000;
 // Points of a P–I curve a request may ask for.
 inline constexpr std::size_t kMinPiPoints = 2;
-inline constexpr std::size_t kMaxPiPoints = 200;
+inline constexpr std::size_t kMaxPiPoints = 100;
 // History samples in a response answer (evenly thinned from the solver's steps; the peak kept).
 inline constexpr std::size_t kMaxHistorySamples = 1000;
 

@@ -632,7 +632,7 @@ TEST(Api, ResponseAndPiAnswerWithClosedFormsAndPointers) {
   EXPECT_EQ(
       pointers(server.request("POST", "/v1/response", charge.dump())),
       (std::vector<std::string>{"/charge/charge_kg", "/charge/distance_m", "/charge/explosive"}));
-  // Bounded cost: a load lasting beyond 1e4 natural periods (T = 63 ms) is refused.
+  // Bounded cost: a load lasting beyond 2000 natural periods (T = 63 ms) is refused.
   json long_pulse = body;
   long_pulse["pulse"]["duration_ms"] = 1e7;
   EXPECT_EQ(pointers(server.request("POST", "/v1/response", long_pulse.dump())),

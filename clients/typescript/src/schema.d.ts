@@ -405,7 +405,7 @@ export interface paths {
          * @description The peak response of a structural element - a lumped-mass single-degree-of-freedom model
          *     (docs/response.md) - to a charge (its reflected Friedlander pulse at `angle_deg`) or to a
          *     given pulse, as `brisance response --json` (plus the thinned time history). Synchronous
-         *     and bounded: a load that ends more than 1e4 natural periods of the element after
+         *     and bounded: a load that ends more than 2000 natural periods of the element after
          *     detonation is a `422` naming the field. Every problem of the body is listed at once with
          *     its JSON pointer. The calculators only compute, so a `read` key may call them.
          */
@@ -431,7 +431,7 @@ export interface paths {
          *     rotation): for each of `points` triangular pulse durations from 0.01 to 100 natural
          *     periods, the peak pressure that just reaches the limit, with the impulsive and
          *     quasi-static asymptotes in closed form (docs/response.md), as `brisance pi -o pi.json`.
-         *     Synchronous and bounded (at most 200 points, ductility at most 100, rotation at most 45
+         *     Synchronous and bounded (at most 100 points, ductility at most 100, rotation at most 45
          *     degrees).
          */
         post: operations["postPressureImpulse"];

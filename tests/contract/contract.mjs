@@ -594,16 +594,18 @@ async function submissionErrors(s) {
 
   // 413: a body over --body-limit-mb (0.01 MiB here). The server closes the connection after
   // answering, so a client still sending may see a reset instead; try a few times.
-  let tooLarge = null;
-  for (let attempt = 0; attempt < 5 && !tooLarge; ++attempt) {
-    try {
-      tooLarge = await send(s, "POST", "/v1/jobs", { headers: json, body: JSON.stringify({ scene: threeBlocks, pad: "x".repeat(20000) }) });
-    } catch (error) {
-      console.log(`  (413 attempt ${attempt + 1}: ${error.code ?? error.message})`);
+  for (const target of ["/v1/jobs", "/v1/response", "/v1/pi"]) {
+    let tooLarge = null;
+    for (let attempt = 0; attempt < 5 && !tooLarge; ++attempt) {
+      try {
+        tooLarge = await send(s, "POST", target, { headers: json, body: JSON.stringify({ scene: threeBlocks, pad: "x".repeat(20000) }) });
+      } catch (error) {
+        console.log(`  (413 attempt ${attempt + 1}: ${error.code ?? error.message})`);
+      }
     }
-  }
-  if (expect(tooLarge, "POST /v1/jobs with a 20 kB body: no answer in 5 attempts")) {
-    checkResponse({ method: "POST", target: "/v1/jobs", note: "body over the limit" }, tooLarge, 413);
+    if (expect(tooLarge, `POST ${target} with a 20 kB body: no answer in 5 attempts`)) {
+      checkResponse({ method: "POST", target, note: "body over the limit" }, tooLarge, 413);
+    }
   }
 
   // 400 bad-request from the transport, for every operation: a request that is not HTTP/1.1.

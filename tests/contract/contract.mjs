@@ -620,6 +620,38 @@ async function submissionErrors(s) {
   if (first) await call(s, "DELETE", `/v1/jobs/${first.id}`, 204);
 }
 
+// The Element schema and the server's element parser (sim/response/element.cpp) agree: the
+// examples and a full element pass both, each broken element fails both.
+async function elementSchemaAgreement(s) {
+  section("the Element schema agrees with the server's validation");
+  const full = { mass_kg: 500, loaded_area_m2: 2, damping_ratio: 0.02, factors: { load: 0.64, mass: 0.5 }, support: { span_m: 3 },
+                 limits: "rc_flexure",
+                 resistance: { type: "membrane", stiffness_n_per_m: 2e6, yield_resistance_n: 1e5, membrane_onset_m: 0.1, membrane_stiffness_n_per_m: 1e5 } };
+  const valid = [["every field", full]];
+  for (const file of fs.readdirSync(path.join(root, "scenes", "elements")).filter((f) => f.endsWith(".json")).sort()) {
+    valid.push([`scenes/elements/${file}`, JSON.parse(fs.readFileSync(path.join(root, "scenes", "elements", file), "utf8"))]);
+  }
+  for (const [name, element] of valid) {
+    expect(schemaAccepts("Element", element), `Element schema rejects '${name}': ${ajv.errorsText(validator(schemaRef("Element")).errors)}`);
+    await call(s, "POST", "/v1/pi", 200, { headers: json, body: { element, points: 4 }, note: name });
+  }
+  const broken = [
+    ["unknown field", { ...full, colour: "red" }],
+    ["no mass", (({ mass_kg, ...rest }) => rest)(full)],
+    ["zero area", { ...full, loaded_area_m2: 0 }],
+    ["damping 1", { ...full, damping_ratio: 1 }],
+    ["unknown resistance", { ...full, resistance: { type: "plastic", stiffness_n_per_m: 1 } }],
+    ["unknown limits", { ...full, limits: "glass" }],
+    ["span 0", { ...full, support: { span_m: 0 } }],
+    ["factor -1", { ...full, factors: { load: -1 } }],
+  ];
+  for (const [name, element] of broken) {
+    expect(!schemaAccepts("Element", element), `Element schema accepts the broken element '${name}'`);
+    const { body } = await call(s, "POST", "/v1/pi", 422, { headers: json, body: { element, ductility: 2 }, note: name });
+    expect(body?.errors?.every((e) => e.pointer.startsWith("/element")), `'${name}': pointers ${JSON.stringify(body?.errors)}`);
+  }
+}
+
 async function sceneSchemaAgreement(s) {
   section("the Scene schema agrees with the server's validation");
   const base = () => clone(threeBlocks);
@@ -915,7 +947,8 @@ try {
 
   for (const [name, run] of [["probes", () => probesAndService(main)], ["405", () => methodNotAllowed(main)],
                              ["lifecycle", () => jobsLifecycle(main)], ["submission", () => submissionErrors(main)],
-                             ["scene schema", () => sceneSchemaAgreement(main)], ["listing", () => listing(main)],
+                             ["scene schema", () => sceneSchemaAgreement(main)],
+                             ["element schema", () => elementSchemaAgreement(main)], ["listing", () => listing(main)],
                              ["queue", () => queueAndCancel(queue)],
                              ["auth", () => authentication(auth, { read: readKey.key, write: writeKey.key })]]) {
     try {

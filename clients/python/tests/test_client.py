@@ -493,6 +493,29 @@ class JobsTest(ServerTestCase):
             self.assertEqual(result["frame_count"], 61)
             self.assertEqual(result["job"]["priority"], 3)
 
+    def test_cli_response_and_pi(self) -> None:
+        wall = str(REPO / "scenes" / "elements" / "rc_wall.json")
+        done = self.run_cli("response", "--element", wall, "--charge-kg", "100", "--distance-m", "15")
+        self.assertEqual(done.returncode, 0, done.stderr)
+        answer = json.loads(done.stdout)
+        self.assertEqual(answer["limits"], "rc_flexure")
+        self.assertAlmostEqual(answer["load"]["peak_pressure_kpa"],
+                               self.client.blast(100, 15)["reflected_overpressure_kpa"])
+        done = self.run_cli("pi", "--element", wall, "--ductility", "3", "--points", "5")
+        self.assertEqual(done.returncode, 0, done.stderr)
+        # rc_wall.json: K_M m = 720 kg, K_L = 0.64, R_y = 111.7 kN, y_el = R_y / k; at mu = 3 the
+        # impulsive asymptote is sqrt(2 K_M m R_y (3 - 1/2) y_el / K_L) / A (docs/response.md).
+        y_el = 111700 / 2.844e7
+        expected = (2 * 720 * 111700 * 2.5 * y_el / 0.64) ** 0.5 / 3
+        self.assertAlmostEqual(json.loads(done.stdout)["impulsive_asymptote_kpa_ms"], expected,
+                               delta=1e-9 * expected)
+        done = self.run_cli("response", "--element", wall, "--pulse-peak-kpa", "-1",
+                            "--pulse-duration-ms", "5")
+        self.assertEqual(done.returncode, 2, done.stderr)
+        self.assertRegex(done.stderr, r"(?m)^/pulse/peak_kpa: ")
+        done = self.run_cli("response", "--element", wall)
+        self.assertEqual(done.returncode, 2, done.stderr)
+
     def test_cli_invalid_scene_exits_2_with_pointers(self) -> None:
         with tempfile.TemporaryDirectory() as folder:
             path = os.path.join(folder, "bad.json")

@@ -1,12 +1,14 @@
 // `brisance response` and `brisance pi`: the structural-response calculators (issue 16) on the
 // command line — an element's SDOF response to a charge or a pulse, and its P–I curve.
+#include <algorithm>
 #include <cmath>
 #include <fstream>
-#include <iostream>
 #include <ostream>
 #include <sstream>
 #include <stdexcept>
+#include <optional>
 #include <string>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -91,10 +93,6 @@ response::Element load_element(const ParsedFlags& flags) {
   for (const response::FieldError& e : parsed.errors)
     messages.push_back(std::string(*path) + ": " + e.text());
   fail_all(flags, messages);
-}
-
-std::optional<double> number_flag(const ParsedFlags& flags, std::string_view name) {
-  return flags.number(name);
 }
 
 void print_response(std::ostream& out, const nlohmann::ordered_json& r) {
@@ -325,15 +323,15 @@ int run_pi(const Args& args, std::ostream& out) {
       flags.fail("-o must end in .svg or .json, got '" + *output + "'");
   }
   std::size_t points = 60;
-  if (const auto n = number_flag(flags, "points")) {
+  if (const auto n = flags.number("points")) {
     if (!(*n >= io::kMinPiPoints && *n <= io::kMaxPiPoints && std::floor(*n) == *n))
       flags.fail(text::printf("--points must be a whole number from %zu to %zu", io::kMinPiPoints,
                               io::kMaxPiPoints));
     points = static_cast<std::size_t>(*n);
   }
   io::PiLimit limit;
-  limit.ductility = number_flag(flags, "ductility");
-  limit.rotation_deg = number_flag(flags, "rotation-deg");
+  limit.ductility = flags.number("ductility");
+  limit.rotation_deg = flags.number("rotation-deg");
   const response::Element element = load_element(flags);
   std::vector<io::InputError> errors;
   const auto y = io::pi_displacement_limit(element, limit, "--ductility", "--rotation-deg", errors);

@@ -1,5 +1,7 @@
 // `brisance blast`: the blast calculator on the command line.
+#include <fstream>
 #include <ostream>
+#include <stdexcept>
 #include <string>
 
 #include <nlohmann/json.hpp>
@@ -16,7 +18,7 @@ namespace {
 constexpr std::string_view kHelp =
     "usage: brisance blast --charge-kg M --distance-m R [--explosive NAME | --tnt-factor F]\n"
     "                      [--burst air|surface] [--surface-model hemispherical|factor_1_8]\n"
-    "                      [--angle-deg A] [--json]\n"
+    "                      [--angle-deg A] [--json] [--pulse-csv FILE]\n"
     "\n"
     "Blast-wave parameters of a charge at a distance, from the Kingery-Bulmash curves.\n"
     "  --charge-kg M       charge mass in kg (> 0)\n"
@@ -27,11 +29,17 @@ constexpr std::string_view kHelp =
     "  --surface-model M   surface bursts: hemispherical curves (default) or factor_1_8\n"
     "                      (free-air curves with 1.8 x the charge)\n"
     "  --angle-deg A       angle of incidence for the reflected values, 0 (head-on) to 90\n"
-    "  --json              one JSON object instead of the table\n";
+    "  --json              one JSON object instead of the table (with the pulses and the inputs)\n"
+    "  --pulse-csv FILE    also write the incident and reflected pressure-time pulses\n"
+    "                      (Friedlander, positive phase) as CSV: time_ms since detonation,\n"
+    "                      incident_kpa, reflected_kpa; 200 rows from arrival to the end\n";
+
+constexpr std::size_t kPulseCsvSamples = 200;
 
 struct BlastRequest {
   io::BlastQuery query;
   bool json = false;
+  std::optional<std::string> pulse_csv;
 };
 
 // The calculator's parameters are spelled with dashes on the command line (--charge-kg).
@@ -52,9 +60,16 @@ BlastRequest parse(const ParsedFlags& flags) {
     return std::string(*value);
   };
   const auto spell = [](std::string_view name) { return "--" + dashed(name); };
-  if (const auto error = io::parse_blast_query(lookup, spell, request.query))
-    flags.fail(error->message);
+  const auto problems = io::parse_blast_query(lookup, spell, request.query);
+  if (!problems.empty()) {
+    // Every bad flag at once, on the one line of a usage error.
+    std::string message = problems.front().message;
+    for (std::size_t i = 1; i < problems.size(); ++i)
+      message += "; " + problems[i].message;
+    flags.fail(message);
+  }
   request.json = flags.has("json");
+  if (const auto csv = flags.value("pulse-csv")) request.pulse_csv = std::string(*csv);
   return request;
 }
 
@@ -102,6 +117,7 @@ int run_blast(const Args& args, std::ostream& out) {
                            {"surface-model"},
                            {"angle-deg"},
                            {"json", false},
+                           {"pulse-csv"},
                            {"list-explosives", false},
                            {"help", false, "h"}});
   if (flags.has("help")) {
@@ -118,8 +134,14 @@ int run_blast(const Args& args, std::ostream& out) {
   }
   const BlastRequest request = parse(flags);
   const io::BlastAnswer answer = io::calculate_blast(request.query);
+  if (request.pulse_csv) {
+    std::ofstream file(*request.pulse_csv, std::ios::binary);
+    if (!file) flags.fail("cannot write '" + *request.pulse_csv + "'; check the directory exists");
+    file << io::blast_pulse_csv(answer, kPulseCsvSamples);
+    if (!file) throw std::runtime_error("writing '" + *request.pulse_csv + "' failed");
+  }
   if (request.json) {
-    out << io::blast_report_json(answer.point, answer.reflection).dump(2) << "\n";
+    out << io::blast_answer_json(request.query, answer).dump(2) << "\n";
   } else {
     print_table(out, request.query, answer.point, answer.reflection);
   }

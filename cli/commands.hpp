@@ -52,6 +52,8 @@ class ParsedFlags {
 
 int run_blast(const Args& args, std::ostream& out);
 int run_fracture(const Args& args, std::ostream& out);
+int run_response(const Args& args, std::ostream& out);
+int run_pi(const Args& args, std::ostream& out);
 int run_simulation(const Args& args, std::ostream& out);
 int run_validate(const Args& args, std::ostream& out);
 int run_serve(const Args& args, std::ostream& out);

@@ -18,6 +18,8 @@ constexpr std::string_view kUsage =
     "  run       simulate a scene: brisance run SCENE.json -o OUT.glb|OUT.json\n"
     "  validate  check a scene file and list every problem\n"
     "  blast     blast-wave parameters of a charge at a distance (Kingery-Bulmash)\n"
+    "  response  peak response of a structural element (SDOF) to a charge or a pulse\n"
+    "  pi        pressure-impulse curve of an element: brisance pi --element E.json -o pi.svg\n"
     "  fracture  grow a crack pattern on a pane: brisance fracture --width W --height H -o F.svg\n"
     "  version   print the version\n"
     "  help      print this help\n"
@@ -36,6 +38,8 @@ int main(int argc, char** argv) {
   const brisance::cli::Args args(all.begin() + 2, all.end());
   try {
     if (command == "blast") return brisance::cli::run_blast(args, std::cout);
+    if (command == "response") return brisance::cli::run_response(args, std::cout);
+    if (command == "pi") return brisance::cli::run_pi(args, std::cout);
     if (command == "fracture") return brisance::cli::run_fracture(args, std::cout);
     if (command == "run") return brisance::cli::run_simulation(args, std::cout);
     if (command == "validate") return brisance::cli::run_validate(args, std::cout);

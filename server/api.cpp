@@ -14,6 +14,7 @@ namespace {
 enum class Access {
   open,  // probes: no key needed
   key,   // needs a key when keys are configured (and a write key for methods other than GET)
+  read,  // needs a key when keys are configured, of any scope: a POST that only computes
 };
 
 struct Route {
@@ -33,6 +34,8 @@ constexpr std::array kRoutes = {
     Route{"GET", "/v1/queue", Access::key, routes::queue},
     Route{"GET", "/v1/explosives", Access::key, routes::explosives},
     Route{"GET", "/v1/blast", Access::key, routes::blast_calculator},
+    Route{"POST", "/v1/response", Access::read, routes::element_response},
+    Route{"POST", "/v1/pi", Access::read, routes::pressure_impulse},
     Route{"GET", "/v1/jobs", Access::key, routes::list_jobs},
     Route{"POST", "/v1/jobs", Access::key, routes::submit_job},
     Route{"GET", "/v1/jobs/{id}", Access::key, routes::get_job},
@@ -169,7 +172,8 @@ HttpResponse Api::route(const HttpRequest& request, const std::optional<LongPoll
           .header("WWW-Authenticate", "Bearer realm=\"brisance\"")
           .response();
     }
-    if (!get && key->scope == Scope::read) {
+    const bool computes = matched && matched->access == Access::read;
+    if (!get && !computes && key->scope == Scope::read) {
       return server::problem(403, "forbidden", "Write scope required",
                              "the API key '" + key->name + "' may only read")
           .response();

@@ -18,11 +18,21 @@ HttpResponse blast_calculator(const Context& c) {
   };
   const auto spell = [](std::string_view name) { return "'" + std::string(name) + "'"; };
   io::BlastQuery query;
-  if (const auto error = io::parse_blast_query(lookup, spell, query))
-    throw BadParameter{error->parameter, error->message};
+  const auto problems = io::parse_blast_query(lookup, spell, query);
+  if (!problems.empty()) {
+    // Every bad parameter at once, each named in errors[].
+    Problem p = problem(400, "invalid-parameter", "Invalid query parameter",
+                        problems.size() == 1 ? problems.front().message
+                                             : std::to_string(problems.size()) +
+                                                   " parameters are invalid; each is listed in "
+                                                   "'errors'");
+    for (const io::BlastQueryError& e : problems)
+      p.error("parameter", e.parameter, e.message);
+    return p.response();
+  }
   const io::BlastAnswer answer = io::calculate_blast(query);
   HttpResponse r;
-  r.body = io::blast_report_json(answer.point, answer.reflection).dump();
+  r.body = io::blast_answer_json(query, answer).dump();
   return r;
 }
 

@@ -1,8 +1,9 @@
 // server/routes: the API's handlers, one file per resource — jobs (submit, list, get, delete,
-// cancel, scene), results (summary, frames, meshes, glb), assets (upload, get), blast (the calculator and the
-// explosives), meta (probes, metrics, the contract, the queue, the dashboard's files). Each
-// handler is a function from a matched request to a response; server/api.cpp holds the route
-// table that picks one, and the authentication in front of it.
+// cancel, scene), results (summary, frames, meshes, glb), assets (upload, get), blast (the
+// calculator and the explosives), response (an element's SDOF response and P–I curve), meta
+// (probes, metrics, the contract, the queue, the dashboard's files). Each handler is a function
+// from a matched request to a response; server/api.cpp holds the route table that picks one, and
+// the authentication in front of it.
 #pragma once
 
 #include <functional>
@@ -69,6 +70,9 @@ HttpResponse get_asset(const Context& c);
 // blast.cpp
 HttpResponse blast_calculator(const Context& c);
 HttpResponse explosives(const Context& c);
+// response.cpp
+HttpResponse element_response(const Context& c);
+HttpResponse pressure_impulse(const Context& c);
 // meta.cpp
 HttpResponse healthz(const Context& c);
 HttpResponse readyz(const Context& c);

@@ -12,7 +12,8 @@ namespace {
 // Pressure-based factors are the peak-overpressure column of UFC 3-340-02 (2008) Table 2-1
 // "equivalent weight" factors, cross-checked in two reproductions (MSB B02-301, 2017, table 2.2,
 // and the DDESB TP-20 blast effects computer's explosive list); UFC gives an impulse-based factor
-// beside it, not used here because peak loads drive Brisance's panels.
+// beside it, not used here because peak loads drive Brisance's panels and no citable copy of
+// that column could be found to check a transcription against (docs/blast-model.md).
 constexpr std::string_view kThesis = "thesis table 2.1 (Smith & Hetherington 1994)";
 constexpr std::string_view kUfc = "UFC 3-340-02 (2008) table 2-1, pressure column";
 

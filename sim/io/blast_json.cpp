@@ -1,8 +1,10 @@
 // sim/io/blast_json: see blast_json.hpp.
 #include "sim/io/blast_json.hpp"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <cstdio>
 #include <numbers>
 
 #include "sim/blast/explosives.hpp"
@@ -28,53 +30,53 @@ std::string shown(double value) {
 
 }  // namespace
 
-std::optional<BlastQueryError> parse_blast_query(
+std::vector<BlastQueryError> parse_blast_query(
     const std::function<std::optional<std::string>(std::string_view name)>& lookup,
     const std::function<std::string(std::string_view name)>& spell, BlastQuery& query) {
-  const auto error = [&](std::string_view name, const std::string& message) {
-    return BlastQueryError{std::string(name), spell(name) + " " + message};
+  // Every parameter is checked on its own, so a caller sees all its mistakes in one answer.
+  std::vector<BlastQueryError> problems;
+  const auto fail = [&](std::string_view name, const std::string& message) {
+    problems.push_back(BlastQueryError{std::string(name), spell(name) + " " + message});
   };
-  // A number parameter: nullopt if absent, an error if not a finite number.
-  std::optional<BlastQueryError> problem;
+  // A number parameter: nullopt if absent or not a finite number (then reported).
   const auto number = [&](std::string_view name) -> std::optional<double> {
     const auto text = lookup(name);
     if (!text) return std::nullopt;
     const auto value = to_number(*text);
-    if (!value) problem = error(name, "must be a finite number, got '" + *text + "'");
+    if (!value) fail(name, "must be a finite number, got '" + *text + "'");
     return value;
   };
+  // A required positive number; 0 when absent or bad (then reported).
   const auto positive = [&](std::string_view name, std::string_view what) -> double {
-    const auto value = number(name);
-    if (problem) return 0.0;
-    if (!value) {
-      problem = error(name, "is required: " + std::string(what) + " (> 0)");
+    if (!lookup(name)) {
+      fail(name, "is required: " + std::string(what) + " (> 0)");
       return 0.0;
     }
-    if (!(*value > 0.0)) problem = error(name, "must be greater than 0, got " + shown(*value));
+    const auto value = number(name);
+    if (!value) return 0.0;
+    if (!(*value > 0.0)) fail(name, "must be greater than 0, got " + shown(*value));
     return *value;
   };
 
   query.charge_kg = positive("charge_kg", "the charge mass in kg");
-  if (problem) return problem;
   query.distance_m = positive("distance_m", "the distance from the charge centre in m");
-  if (problem) return problem;
 
   const auto explosive = lookup("explosive");
-  if (explosive && lookup("tnt_factor"))
-    return error("tnt_factor",
-                 "and " + spell("explosive") + " name the explosive twice: give one, not both");
-  if (lookup("tnt_factor")) {
+  if (explosive && lookup("tnt_factor")) {
+    fail("tnt_factor",
+         "and " + spell("explosive") + " name the explosive twice: give one, not both");
+  } else if (lookup("tnt_factor")) {
     query.tnt_factor = positive("tnt_factor", "kg TNT per kg of explosive");
-    if (problem) return problem;
     query.explosive_name = "custom";
   } else if (explosive) {
-    const auto found = blast::find_explosive(*explosive);
-    if (!found)
-      return error("explosive", "names no known explosive ('" + *explosive +
-                                    "'); known: " + blast::known_explosive_names() + " (or give " +
-                                    spell("tnt_factor") + ")");
-    query.explosive_name = found->name;
-    query.tnt_factor = found->tnt_factor;
+    if (const auto found = blast::find_explosive(*explosive)) {
+      query.explosive_name = found->name;
+      query.tnt_factor = found->tnt_factor;
+    } else {
+      fail("explosive", "names no known explosive ('" + *explosive +
+                            "'); known: " + blast::known_explosive_names() + " (or give " +
+                            spell("tnt_factor") + ")");
+    }
   }
 
   if (const auto burst = lookup("burst")) {
@@ -83,7 +85,7 @@ std::optional<BlastQueryError> parse_blast_query(
     } else if (*burst == "surface") {
       query.charge.burst = blast::Burst::surface;
     } else {
-      return error("burst", "must be 'air' or 'surface', got '" + *burst + "'");
+      fail("burst", "must be 'air' or 'surface', got '" + *burst + "'");
     }
   }
   if (const auto model = lookup("surface_model")) {
@@ -92,24 +94,30 @@ std::optional<BlastQueryError> parse_blast_query(
     } else if (*model == "factor_1_8") {
       query.charge.surface_model = blast::SurfaceBurstModel::factor_1_8;
     } else {
-      return error("surface_model",
-                   "must be 'hemispherical' or 'factor_1_8', got '" + *model + "'");
+      fail("surface_model", "must be 'hemispherical' or 'factor_1_8', got '" + *model + "'");
     }
   }
   if (const auto angle = number("angle_deg")) {
-    if (*angle < 0.0 || *angle > 90.0)
-      return error("angle_deg", "must be between 0 and 90, got " + shown(*angle));
-    query.angle_deg = *angle;
+    if (*angle < 0.0 || *angle > 90.0) {
+      fail("angle_deg", "must be between 0 and 90, got " + shown(*angle));
+    } else {
+      query.angle_deg = *angle;
+    }
   }
-  if (problem) return problem;
   query.charge.tnt_equivalent_kg = query.charge_kg * query.tnt_factor;
-  return std::nullopt;
+  return problems;
 }
 
 BlastAnswer calculate_blast(const BlastQuery& query) {
   BlastAnswer answer;
   answer.point = blast::blast_point(query.charge, query.distance_m);
   answer.reflection = reflect(answer.point, query.angle_deg * std::numbers::pi / 180.0);
+  answer.incident_pulse =
+      blast::make_pulse(blast::PulseShape::friedlander, answer.point.incident_overpressure_pa,
+                        answer.point.positive_duration_s, answer.point.incident_impulse_pa_s);
+  answer.reflected_pulse =
+      blast::make_pulse(blast::PulseShape::friedlander, answer.reflection.overpressure_pa,
+                        answer.point.positive_duration_s, answer.reflection.impulse_pa_s);
   return answer;
 }
 
@@ -128,6 +136,57 @@ nlohmann::ordered_json blast_report_json(const blast::BlastPoint& point,
   out["dynamic_pressure_kpa"] = point.dynamic_pressure_pa * 1e-3;
   out["reflection_coefficient"] = reflection.coefficient;
   out["in_validity_range"] = point.in_validity_range && reflection.in_chart_range;
+  return out;
+}
+
+nlohmann::ordered_json blast_inputs_json(const BlastQuery& query) {
+  nlohmann::ordered_json out;
+  out["charge_kg"] = query.charge_kg;
+  out["distance_m"] = query.distance_m;
+  out["explosive"] = query.explosive_name;
+  out["tnt_factor"] = query.tnt_factor;
+  out["burst"] = query.charge.burst == blast::Burst::air ? "air" : "surface";
+  out["surface_model"] = query.charge.surface_model == blast::SurfaceBurstModel::hemispherical
+                             ? "hemispherical"
+                             : "factor_1_8";
+  out["angle_deg"] = query.angle_deg;
+  return out;
+}
+
+namespace {
+
+nlohmann::ordered_json pulse_json(const blast::Pulse& pulse) {
+  nlohmann::ordered_json out;
+  out["peak_kpa"] = pulse.peak_pa * 1e-3;
+  out["duration_ms"] = pulse.duration_s * 1e3;
+  out["impulse_kpa_ms"] = pulse.total_impulse_pa_s();  // Pa*s == kPa*ms
+  out["decay"] = pulse.decay;
+  return out;
+}
+
+}  // namespace
+
+nlohmann::ordered_json blast_answer_json(const BlastQuery& query, const BlastAnswer& answer) {
+  nlohmann::ordered_json out = blast_report_json(answer.point, answer.reflection);
+  out["incident_pulse"] = pulse_json(answer.incident_pulse);
+  out["reflected_pulse"] = pulse_json(answer.reflected_pulse);
+  out["inputs"] = blast_inputs_json(query);
+  return out;
+}
+
+std::string blast_pulse_csv(const BlastAnswer& answer, std::size_t samples) {
+  const double arrival_s = answer.point.arrival_time_s;
+  const double end_s =
+      std::max(answer.incident_pulse.duration_s, answer.reflected_pulse.duration_s);
+  std::string out = "time_ms,incident_kpa,reflected_kpa\n";
+  char line[96];
+  for (std::size_t i = 0; i < samples; ++i) {
+    const double t_s = end_s * static_cast<double>(i) / static_cast<double>(samples - 1);
+    std::snprintf(line, sizeof line, "%.6g,%.6g,%.6g\n", (arrival_s + t_s) * 1e3,
+                  answer.incident_pulse.pressure_pa(t_s) * 1e-3,
+                  answer.reflected_pulse.pressure_pa(t_s) * 1e-3);
+    out += line;
+  }
   return out;
 }
 

@@ -7,10 +7,12 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
 #include "sim/blast/blast_point.hpp"
+#include "sim/blast/pulse.hpp"
 #include "sim/blast/reflection.hpp"
 
 namespace brisance::io {
@@ -34,22 +36,38 @@ struct BlastQueryError {
 // Reads the calculator's parameters — charge_kg, distance_m, explosive or tnt_factor, burst,
 // surface_model, angle_deg — through `lookup` (the text given for a parameter, or nullopt), and
 // checks them. `spell` turns a parameter's name into the caller's spelling for messages
-// ("--charge-kg" on the command line, "'charge_kg'" over HTTP). Returns the first problem, or
-// nullopt with `query` filled in.
-std::optional<BlastQueryError> parse_blast_query(
+// ("--charge-kg" on the command line, "'charge_kg'" over HTTP). Returns every problem, in the
+// order above; when there is none, `query` is filled in.
+std::vector<BlastQueryError> parse_blast_query(
     const std::function<std::optional<std::string>(std::string_view name)>& lookup,
     const std::function<std::string(std::string_view name)>& spell, BlastQuery& query);
 
-// The blast point of the query and its reflection at the query's angle.
+// The blast point of the query, its reflection at the query's angle, and the positive-phase
+// pulses (Friedlander, decay solved so each integrates to its impulse; sim/blast/pulse) that go
+// with them, time from arrival.
 struct BlastAnswer {
   blast::BlastPoint point;
   blast::ObliqueReflection reflection;
+  blast::Pulse incident_pulse;
+  blast::Pulse reflected_pulse;
 };
 BlastAnswer calculate_blast(const BlastQuery& query);
 
 // The blast point and its reflection at the given angle of incidence, in engineering units.
 nlohmann::ordered_json blast_report_json(const blast::BlastPoint& point,
                                          const blast::ObliqueReflection& reflection);
+
+// The query as the calculator understood it (explosive by its canonical name, defaults filled
+// in): charge_kg, distance_m, explosive, tnt_factor, burst, surface_model, angle_deg.
+nlohmann::ordered_json blast_inputs_json(const BlastQuery& query);
+
+// The whole answer of `brisance blast --json` and GET /v1/blast: the report, the two pulses as
+// {peak_kpa, duration_ms, impulse_kpa_ms, decay} and the echoed inputs.
+nlohmann::ordered_json blast_answer_json(const BlastQuery& query, const BlastAnswer& answer);
+
+// The incident and reflected pulses sampled at `samples` (>= 2) evenly spaced times from arrival
+// to the end of the longer one, as CSV: time_ms (since detonation), incident_kpa, reflected_kpa.
+std::string blast_pulse_csv(const BlastAnswer& answer, std::size_t samples);
 
 // Reflection of `point` at `angle_rad` of incidence (0: head-on).
 blast::ObliqueReflection reflect(const blast::BlastPoint& point, double angle_rad);

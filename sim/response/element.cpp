@@ -7,6 +7,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "sim/response/limits.hpp"
+
 namespace brisance::response {
 namespace {
 
@@ -130,9 +132,9 @@ void parse_resistance(Reader& r, const nlohmann::json& j, Element& e) {
 ElementParse parse_element(const nlohmann::json& json) {
   ElementParse out;
   Reader r(out.errors);
-  if (!r.object(
-          json, "",
-          {"mass_kg", "loaded_area_m2", "resistance", "damping_ratio", "factors", "support"})) {
+  if (!r.object(json, "",
+                {"mass_kg", "loaded_area_m2", "resistance", "damping_ratio", "factors", "support",
+                 "limits"})) {
     return out;
   }
   Element e;
@@ -167,6 +169,17 @@ ElementParse parse_element(const nlohmann::json& json) {
       const auto span = r.number(s, "/support", "span_m", std::nullopt);
       r.positive(span, "/support/span_m");
       if (span && *span > 0.0) e.span_m = *span;
+    }
+  }
+  if (json.contains("limits")) {
+    const nlohmann::json& l = json.at("limits");
+    if (l.is_string() && find_limits(l.get<std::string>())) {
+      e.limits = l.get<std::string>();
+    } else {
+      std::string names;
+      for (const ResponseLimits& known : limits_table())
+        names += (names.empty() ? "" : ", ") + std::string(known.element);
+      r.fail("/limits", "must name a table of response limits: " + names);
     }
   }
   if (out.errors.empty()) out.element = e;

@@ -20,6 +20,9 @@ struct Element {
   double load_factor = 1.0;      // K_L (1, 1: already an equivalent SDOF)
   double mass_factor = 1.0;      // K_M
   std::optional<double> span_m;  // support span; gives the support rotation
+  // Name of the response limits the damage level is judged against (limits.hpp), e.g.
+  // "rc_flexure"; none: no damage level.
+  std::optional<std::string> limits;
 };
 
 struct FieldError {
@@ -36,7 +39,7 @@ struct ElementParse {
 // Reads {"mass_kg", "loaded_area_m2", "resistance": {"type", "stiffness_n_per_m",
 // "yield_resistance_n", "hardening_stiffness_n_per_m", "membrane_onset_m",
 // "membrane_stiffness_n_per_m"}, "damping_ratio", "factors": {"load", "mass"},
-// "support": {"span_m"}}. Unknown fields are errors.
+// "support": {"span_m"}, "limits"}. Unknown fields are errors.
 ElementParse parse_element(const nlohmann::json& json);
 
 }  // namespace brisance::response

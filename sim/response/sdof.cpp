@@ -368,9 +368,12 @@ SdofResult solve_sdof(const SdofSystem& sys, const PressureLoad& load, const Sol
     t = t1;
     y = y1;
     v = v1;
+    // The time to peak is when the peak is first reached: an undamped element repeats its peak
+    // every period, and round-off must not move the time to a later, equal one.
     if (y > out.peak_displacement_m) {
+      if (y > out.peak_displacement_m + 1e-9 * std::abs(out.peak_displacement_m))
+        out.time_to_peak_s = t;
       out.peak_displacement_m = y;
-      out.time_to_peak_s = t;
     }
     out.min_displacement_m = std::min(out.min_displacement_m, y);
     switch (event) {

@@ -1,7 +1,11 @@
 // Tests of `brisance blast` in-process: the JSON contract of DESIGN.md and the input errors.
+#include <array>
+#include <cstdio>
+#include <fstream>
 #include <set>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -29,14 +33,24 @@ std::string usage_error(const Args& args) {
   return {};
 }
 
-TEST(BlastCommand, JsonHasExactlyTheContractFields) {
+TEST(BlastCommand, JsonHasTheContractFieldsPulsesAndInputs) {
   const auto json =
       nlohmann::json::parse(run({"--charge-kg", "100", "--distance-m", "15", "--json"}));
-  const std::set<std::string> expected = {
-      "scaled_distance_m_kg13",     "tnt_equivalent_kg",        "incident_overpressure_kpa",
-      "incident_impulse_kpa_ms",    "arrival_time_ms",          "positive_duration_ms",
-      "reflected_overpressure_kpa", "reflected_impulse_kpa_ms", "shock_velocity_m_s",
-      "dynamic_pressure_kpa",       "reflection_coefficient",   "in_validity_range"};
+  const std::set<std::string> expected = {"scaled_distance_m_kg13",
+                                          "tnt_equivalent_kg",
+                                          "incident_overpressure_kpa",
+                                          "incident_impulse_kpa_ms",
+                                          "arrival_time_ms",
+                                          "positive_duration_ms",
+                                          "reflected_overpressure_kpa",
+                                          "reflected_impulse_kpa_ms",
+                                          "shock_velocity_m_s",
+                                          "dynamic_pressure_kpa",
+                                          "reflection_coefficient",
+                                          "in_validity_range",
+                                          "incident_pulse",
+                                          "reflected_pulse",
+                                          "inputs"};
   std::set<std::string> keys;
   for (const auto& [key, value] : json.items())
     keys.insert(key);
@@ -50,6 +64,60 @@ TEST(BlastCommand, JsonHasExactlyTheContractFields) {
   EXPECT_NEAR(json["reflection_coefficient"].get<double>(),
               point.reflected_overpressure_pa / point.incident_overpressure_pa, 1e-12);
   EXPECT_TRUE(json["in_validity_range"].get<bool>());
+  // Each pulse integrates to the impulse of the curves (the Friedlander decay is solved for it).
+  EXPECT_NEAR(json["incident_pulse"]["impulse_kpa_ms"].get<double>(),
+              json["incident_impulse_kpa_ms"].get<double>(),
+              1e-6 * json["incident_impulse_kpa_ms"].get<double>());
+  EXPECT_NEAR(json["reflected_pulse"]["impulse_kpa_ms"].get<double>(),
+              json["reflected_impulse_kpa_ms"].get<double>(),
+              1e-6 * json["reflected_impulse_kpa_ms"].get<double>());
+  EXPECT_DOUBLE_EQ(json["reflected_pulse"]["peak_kpa"].get<double>(),
+                   json["reflected_overpressure_kpa"].get<double>());
+}
+
+TEST(BlastCommand, JsonEchoesTheInputsAsUnderstood) {
+  const auto json =
+      nlohmann::json::parse(run({"--charge-kg", "10", "--distance-m", "5", "--explosive", "c4",
+                                 "--angle-deg", "30", "--json"}));
+  const auto& in = json["inputs"];
+  EXPECT_EQ(in["charge_kg"].get<double>(), 10.0);
+  EXPECT_EQ(in["distance_m"].get<double>(), 5.0);
+  EXPECT_EQ(in["explosive"].get<std::string>(), "Composition C-4");
+  EXPECT_DOUBLE_EQ(in["tnt_factor"].get<double>(), 1.37);
+  EXPECT_EQ(in["burst"].get<std::string>(), "air");
+  EXPECT_EQ(in["surface_model"].get<std::string>(), "hemispherical");
+  EXPECT_EQ(in["angle_deg"].get<double>(), 30.0);
+}
+
+TEST(BlastCommand, PulseCsvSamplesBothPulsesFromArrival) {
+  const std::string path = testing::TempDir() + "/brisance_pulse.csv";
+  const auto json = nlohmann::json::parse(
+      run({"--charge-kg", "100", "--distance-m", "15", "--json", "--pulse-csv", path}));
+  std::ifstream file(path);
+  std::string header;
+  std::getline(file, header);
+  EXPECT_EQ(header, "time_ms,incident_kpa,reflected_kpa");
+  std::vector<std::array<double, 3>> rows;
+  std::string line;
+  while (std::getline(file, line)) {
+    std::array<double, 3> row{};
+    ASSERT_EQ(std::sscanf(line.c_str(), "%lf,%lf,%lf", &row[0], &row[1], &row[2]), 3) << line;
+    rows.push_back(row);
+  }
+  ASSERT_EQ(rows.size(), 200u);
+  // Starts at the arrival with the peaks, ends at zero after the positive phase.
+  EXPECT_NEAR(rows.front()[0], json["arrival_time_ms"].get<double>(), 1e-4);
+  EXPECT_NEAR(rows.front()[1], json["incident_overpressure_kpa"].get<double>(), 1e-3);
+  EXPECT_NEAR(rows.front()[2], json["reflected_overpressure_kpa"].get<double>(), 1e-2);
+  EXPECT_NEAR(rows.back()[1], 0.0, 1e-9);
+  EXPECT_NEAR(rows.back()[2], 0.0, 1e-9);
+  // The trapezoid sum of the incident column approaches the incident impulse.
+  double impulse = 0.0;
+  for (std::size_t i = 1; i < rows.size(); ++i)
+    impulse += 0.5 * (rows[i][1] + rows[i - 1][1]) * (rows[i][0] - rows[i - 1][0]);
+  EXPECT_NEAR(impulse, json["incident_impulse_kpa_ms"].get<double>(),
+              2e-3 * json["incident_impulse_kpa_ms"].get<double>());
+  std::remove(path.c_str());
 }
 
 TEST(BlastCommand, ExplosiveSurfaceAndAngleOptions) {
@@ -117,6 +185,12 @@ TEST(BlastCommand, BadInputIsOneClearMessage) {
                          "--tnt-factor", "1.2"})
                 .find("not both"),
             std::string::npos);
+  // Every bad flag at once, still on one line.
+  const std::string all = usage_error(
+      {"--charge-kg", "-1", "--distance-m", "x", "--burst", "sea", "--angle-deg", "100"});
+  for (const char* flag : {"--charge-kg", "--distance-m", "--burst", "--angle-deg"})
+    EXPECT_NE(all.find(flag), std::string::npos) << flag << " in " << all;
+  EXPECT_EQ(all.find('\n'), std::string::npos) << all;
   for (const std::string& message : {usage_error({"--distance-m", "5"}),
                                      usage_error({"--charge-kg", "0", "--distance-m", "1"})}) {
     EXPECT_EQ(message.find('\n'), std::string::npos) << message;

@@ -4,6 +4,7 @@
 set -u
 bin="$1"
 failures=0
+elements="$(dirname "$0")/../../scenes/elements"
 expect() {  # expect CODE ARGS...
   local want="$1"; shift
   local err; err=$(mktemp)
@@ -29,6 +30,16 @@ expect 2 blast --charge-kg 100
 expect 2 blast --charge-kg -3 --distance-m 15
 expect 2 blast --charge-kg 100 --distance-m 15 --explosive unobtainium
 expect 2 blast --charge-kg 100 --distance-m 15 --bogus
+expect 2 blast --charge-kg -1 --distance-m x --burst sea
+expect 0 response --element "$elements/rc_wall.json" --charge-kg 100 --distance-m 15
+expect 0 response --element "$elements/steel_beam.json" --pulse-peak-kpa 200 --pulse-duration-ms 10 --json
+expect 0 pi --element "$elements/rc_wall.json" --ductility 3 --points 5
+expect 0 response --help
+expect 0 pi --help
+expect 2 response --element "$elements/rc_wall.json"
+expect 2 response --element /nonexistent.json --charge-kg 1 --distance-m 5
+expect 2 response --element "$elements/rc_wall.json" --pulse-peak-kpa 1 --pulse-duration-ms 1e9
+expect 2 pi --element "$elements/rc_wall.json" --ductility 0
 expect 2 frobnicate
 "$bin" >/dev/null 2>&1; code=$?
 if [ "$code" -ne 2 ]; then echo "FAIL: no command exited $code, expected 2"; failures=$((failures + 1)); fi
@@ -36,5 +47,5 @@ out=$("$bin" blast --charge-kg 100 --distance-m 15 --json)
 if ! printf '%s' "$out" | grep -q '"incident_overpressure_kpa"'; then
   echo "FAIL: --json output lacks incident_overpressure_kpa"; failures=$((failures + 1))
 fi
-echo "$((13 - failures)) passed, $failures failed"
+echo "$((23 - failures)) passed, $failures failed"
 [ "$failures" -eq 0 ]

@@ -441,6 +441,29 @@ async function probesAndService(s) {
     expect(body?.errors?.[0]?.parameter === parameter, `/v1/blast?${query}: errors[0].parameter ${body?.errors?.[0]?.parameter}, expected ${parameter}`);
   }
 
+  // Every bad parameter at once.
+  const { body: many } = await call(s, "GET", "/v1/blast?charge_kg=-1&distance_m=x&angle_deg=91", 400, { note: "three bad parameters" });
+  expect(many?.errors?.map((e) => e.parameter).join(",") === "charge_kg,distance_m,angle_deg",
+         `/v1/blast three bad parameters: ${JSON.stringify(many?.errors)}`);
+  expect(blast?.inputs?.explosive === "TNT" && blast?.inputs?.charge_kg === 100, `/v1/blast echoes its inputs: ${JSON.stringify(blast?.inputs)}`);
+
+  // The structural-response calculators (docs/response.md).
+  const wall = JSON.parse(fs.readFileSync(path.join(root, "scenes", "elements", "rc_wall.json"), "utf8"));
+  const { body: response } = await call(s, "POST", "/v1/response", 200, { headers: json, body: { element: wall, charge: { charge_kg: 100, distance_m: 15 } } });
+  expect(response && response.peak_displacement_m > 0 && typeof response.damage === "string", `/v1/response: ${JSON.stringify(response)?.slice(0, 200)}`);
+  expect(response?.load?.peak_pressure_kpa === blast?.reflected_overpressure_kpa, "/v1/response loads with the /v1/blast reflected pressure");
+  await call(s, "POST", "/v1/response", 200, { headers: json, body: { element: wall, pulse: { peak_kpa: 100, duration_ms: 10, shape: "friedlander" }, history: false }, note: "pulse, no history" });
+  await call(s, "POST", "/v1/response", 400, { headers: json, body: "{not json" });
+  await call(s, "POST", "/v1/response", 415, { headers: { "Content-Type": "text/plain" }, body: "x" });
+  const { body: bad } = await call(s, "POST", "/v1/response", 422, { headers: json, body: { element: { ...wall, mass_kg: -1 }, pulse: { peak_kpa: 0, duration_ms: 1 } } });
+  expect(bad?.errors?.map((e) => e.pointer).join(",") === "/element/mass_kg,/pulse/peak_kpa", `/v1/response 422 pointers: ${JSON.stringify(bad?.errors)}`);
+  await call(s, "POST", "/v1/response", 422, { headers: json, body: { element: wall, pulse: { peak_kpa: 1, duration_ms: 1e9 } }, note: "unbounded work" });
+  const { body: pi } = await call(s, "POST", "/v1/pi", 200, { headers: json, body: { element: wall, ductility: 3, points: 10 } });
+  expect(pi?.points?.length === 10 && pi.impulsive_asymptote_kpa_ms > 0, `/v1/pi: ${JSON.stringify(pi)?.slice(0, 200)}`);
+  await call(s, "POST", "/v1/pi", 400, { headers: json, body: "[" });
+  await call(s, "POST", "/v1/pi", 415, { headers: { "Content-Type": "text/plain" }, body: "x" });
+  await call(s, "POST", "/v1/pi", 422, { headers: json, body: { element: wall, points: 1000 } });
+
   const { body: metrics, response: metricsResponse } = await call(s, "GET", "/metrics", 200);
   expect(metricsResponse.headers["content-type"] === "text/plain; version=0.0.4; charset=utf-8",
          `/metrics Content-Type ${metricsResponse.headers["content-type"]}`);
@@ -571,16 +594,18 @@ async function submissionErrors(s) {
 
   // 413: a body over --body-limit-mb (0.01 MiB here). The server closes the connection after
   // answering, so a client still sending may see a reset instead; try a few times.
-  let tooLarge = null;
-  for (let attempt = 0; attempt < 5 && !tooLarge; ++attempt) {
-    try {
-      tooLarge = await send(s, "POST", "/v1/jobs", { headers: json, body: JSON.stringify({ scene: threeBlocks, pad: "x".repeat(20000) }) });
-    } catch (error) {
-      console.log(`  (413 attempt ${attempt + 1}: ${error.code ?? error.message})`);
+  for (const target of ["/v1/jobs", "/v1/response", "/v1/pi"]) {
+    let tooLarge = null;
+    for (let attempt = 0; attempt < 5 && !tooLarge; ++attempt) {
+      try {
+        tooLarge = await send(s, "POST", target, { headers: json, body: JSON.stringify({ scene: threeBlocks, pad: "x".repeat(20000) }) });
+      } catch (error) {
+        console.log(`  (413 attempt ${attempt + 1}: ${error.code ?? error.message})`);
+      }
     }
-  }
-  if (expect(tooLarge, "POST /v1/jobs with a 20 kB body: no answer in 5 attempts")) {
-    checkResponse({ method: "POST", target: "/v1/jobs", note: "body over the limit" }, tooLarge, 413);
+    if (expect(tooLarge, `POST ${target} with a 20 kB body: no answer in 5 attempts`)) {
+      checkResponse({ method: "POST", target, note: "body over the limit" }, tooLarge, 413);
+    }
   }
 
   // 400 bad-request from the transport, for every operation: a request that is not HTTP/1.1.
@@ -593,6 +618,38 @@ async function submissionErrors(s) {
     }
   }
   if (first) await call(s, "DELETE", `/v1/jobs/${first.id}`, 204);
+}
+
+// The Element schema and the server's element parser (sim/response/element.cpp) agree: the
+// examples and a full element pass both, each broken element fails both.
+async function elementSchemaAgreement(s) {
+  section("the Element schema agrees with the server's validation");
+  const full = { mass_kg: 500, loaded_area_m2: 2, damping_ratio: 0.02, factors: { load: 0.64, mass: 0.5 }, support: { span_m: 3 },
+                 limits: "rc_flexure",
+                 resistance: { type: "membrane", stiffness_n_per_m: 2e6, yield_resistance_n: 1e5, membrane_onset_m: 0.1, membrane_stiffness_n_per_m: 1e5 } };
+  const valid = [["every field", full]];
+  for (const file of fs.readdirSync(path.join(root, "scenes", "elements")).filter((f) => f.endsWith(".json")).sort()) {
+    valid.push([`scenes/elements/${file}`, JSON.parse(fs.readFileSync(path.join(root, "scenes", "elements", file), "utf8"))]);
+  }
+  for (const [name, element] of valid) {
+    expect(schemaAccepts("Element", element), `Element schema rejects '${name}': ${ajv.errorsText(validator(schemaRef("Element")).errors)}`);
+    await call(s, "POST", "/v1/pi", 200, { headers: json, body: { element, points: 4 }, note: name });
+  }
+  const broken = [
+    ["unknown field", { ...full, colour: "red" }],
+    ["no mass", (({ mass_kg, ...rest }) => rest)(full)],
+    ["zero area", { ...full, loaded_area_m2: 0 }],
+    ["damping 1", { ...full, damping_ratio: 1 }],
+    ["unknown resistance", { ...full, resistance: { type: "plastic", stiffness_n_per_m: 1 } }],
+    ["unknown limits", { ...full, limits: "glass" }],
+    ["span 0", { ...full, support: { span_m: 0 } }],
+    ["factor -1", { ...full, factors: { load: -1 } }],
+  ];
+  for (const [name, element] of broken) {
+    expect(!schemaAccepts("Element", element), `Element schema accepts the broken element '${name}'`);
+    const { body } = await call(s, "POST", "/v1/pi", 422, { headers: json, body: { element, ductility: 2 }, note: name });
+    expect(body?.errors?.every((e) => e.pointer.startsWith("/element")), `'${name}': pointers ${JSON.stringify(body?.errors)}`);
+  }
 }
 
 async function sceneSchemaAgreement(s) {
@@ -928,7 +985,7 @@ try {
   for (const [name, run] of [["probes", () => probesAndService(main)], ["405", () => methodNotAllowed(main)],
                              ["lifecycle", () => jobsLifecycle(main)], ["submission", () => submissionErrors(main)],
                              ["scene schema", () => sceneSchemaAgreement(main)], ["assets", () => assets(main, queue)],
-                             ["listing", () => listing(main)],
+                             ["element schema", () => elementSchemaAgreement(main)], ["listing", () => listing(main)],
                              ["queue", () => queueAndCancel(queue)],
                              ["auth", () => authentication(auth, { read: readKey.key, write: writeKey.key })]]) {
     try {

@@ -430,6 +430,18 @@ TEST(Api, ApiKeysGuardEverythingButTheProbes) {
   const ClientResponse forbidden = server.request("POST", "/v1/jobs", job_body(quick_scene()),
                                                   {{"Authorization", "Bearer " + read_key}});
   EXPECT_EQ(forbidden.status, 403);
+  // The calculators only compute: a read key may POST to them.
+  const json pulse = {{"element",
+                       {{"mass_kg", 100},
+                        {"loaded_area_m2", 1},
+                        {"resistance", {{"type", "elastic"}, {"stiffness_n_per_m", 1e6}}}}},
+                      {"pulse", {{"peak_kpa", 10}, {"duration_ms", 1}}}};
+  EXPECT_EQ(
+      server
+          .request("POST", "/v1/response", pulse.dump(), {{"Authorization", "Bearer " + read_key}})
+          .status,
+      200);
+  EXPECT_EQ(server.request("POST", "/v1/response", pulse.dump()).status, 401);
   EXPECT_EQ(server
                 .request("POST", "/v1/jobs", job_body(quick_scene()),
                          {{"Authorization", "Bearer " + write_key}})
@@ -602,13 +614,112 @@ TEST(Api, BelowTheFreeSpaceFloorSubmissionsGet507AndDeletesStillWork) {
 TEST(Api, BlastCalculatorAndExplosivesMatchTheCli) {
   TestServer server(with_workers(0));
   const json blast = server.get_json("/v1/blast?charge_kg=100&distance_m=15");
-  EXPECT_EQ(blast.size(), 12u);
+  EXPECT_EQ(blast.size(), 15u);  // DESIGN.md's twelve fields, the two pulses and the inputs
+  EXPECT_EQ(blast.at("inputs").at("explosive"), "TNT");
+  EXPECT_EQ(blast.at("inputs").at("distance_m"), 15.0);
   EXPECT_NEAR(blast.at("scaled_distance_m_kg13").get<double>(), 15.0 / std::cbrt(100.0), 1e-12);
   EXPECT_TRUE(blast.at("in_validity_range").get<bool>());
   const json comp_b = server.get_json("/v1/blast?charge_kg=100&distance_m=15&explosive=comp-b");
   EXPECT_GT(comp_b.at("tnt_equivalent_kg").get<double>(), 100.0);
   const json explosives = server.get_json("/v1/explosives");
   EXPECT_EQ(explosives.at("explosives")[0].at("name"), "TNT");
+}
+
+// Every bad parameter of one request is named at once.
+TEST(Api, BlastNamesEveryBadParameter) {
+  TestServer server(with_workers(0));
+  const ClientResponse r =
+      server.request("GET", "/v1/blast?charge_kg=-1&distance_m=x&burst=sea&angle_deg=95");
+  EXPECT_EQ(r.status, 400);
+  std::vector<std::string> named;
+  const json problem = json::parse(r.body);
+  for (const json& e : problem.at("errors"))
+    named.push_back(e.at("parameter"));
+  EXPECT_EQ(named, (std::vector<std::string>{"charge_kg", "distance_m", "burst", "angle_deg"}));
+}
+
+json elastic_element() {
+  return {{"mass_kg", 100},
+          {"loaded_area_m2", 1},
+          {"resistance", {{"type", "elastic"}, {"stiffness_n_per_m", 1e6}}}};
+}
+
+std::vector<std::string> pointers(const ClientResponse& r) {
+  std::vector<std::string> out;
+  const json problem = json::parse(r.body);
+  for (const json& e : problem.at("errors"))
+    out.push_back(e.at("pointer"));
+  return out;
+}
+
+// POST /v1/response and /v1/pi: results against closed forms, and every bad field named by its
+// pointer in one 422.
+TEST(Api, ResponseAndPiAnswerWithClosedFormsAndPointers) {
+  TestServer server(with_workers(0));
+  // m = 100 kg, k = 1e6 N/m, omega = 100 rad/s; a 0.05 ms triangle of 1000 kPa carries 25 Pa*s:
+  // the impulsive response y = I A / (m omega) = 2.5 mm.
+  const json body = {{"element", elastic_element()},
+                     {"pulse", {{"peak_kpa", 1000}, {"duration_ms", 0.05}}}};
+  const ClientResponse ok =
+      server.request("POST", "/v1/response", body.dump(), {{"Content-Type", "application/json"}});
+  ASSERT_EQ(ok.status, 200) << ok.body;
+  const json r = json::parse(ok.body);
+  EXPECT_NEAR(r.at("peak_displacement_m").get<double>(), 2.5e-3, 2.5e-6);
+  const auto& history = r.at("history");
+  ASSERT_GT(history.at("time_ms").size(), 10u);
+  EXPECT_LE(history.at("time_ms").size(), 1002u);
+  EXPECT_EQ(history.at("time_ms").size(), history.at("displacement_m").size());
+
+  // P–I of the elastic element with a span of 2 m at 1 degree: y = tan(1 deg) m, impulsive
+  // asymptote y sqrt(k m) / A, quasi-static k y / (2 A).
+  json element = elastic_element();
+  element["support"] = {{"span_m", 2}};
+  const ClientResponse pi = server.request(
+      "POST", "/v1/pi", json{{"element", element}, {"rotation_deg", 1}, {"points", 8}}.dump());
+  ASSERT_EQ(pi.status, 200) << pi.body;
+  const json curve = json::parse(pi.body);
+  const double y = std::tan(std::acos(-1.0) / 180.0);
+  EXPECT_NEAR(curve.at("impulsive_asymptote_kpa_ms").get<double>(), y * 1e4, 1e-9);
+  EXPECT_NEAR(curve.at("quasi_static_asymptote_kpa").get<double>(), 1e6 * y / 2 * 1e-3, 1e-9);
+  EXPECT_EQ(curve.at("points").size(), 8u);
+
+  json bad = body;
+  bad["element"]["resistance"]["stiffness_n_per_m"] = 0;
+  bad["element"]["paint"] = "red";
+  bad["pulse"]["shape"] = "square";
+  bad["extra"] = 1;
+  const ClientResponse invalid = server.request("POST", "/v1/response", bad.dump());
+  EXPECT_EQ(invalid.status, 422);
+  EXPECT_EQ(json::parse(invalid.body).at("type"), "urn:brisance:problem:invalid-input");
+  EXPECT_EQ(pointers(invalid),
+            (std::vector<std::string>{"/extra", "/element/paint",
+                                      "/element/resistance/stiffness_n_per_m", "/pulse/shape"}));
+  // Both loads, or none.
+  json both = body;
+  both["charge"] = {{"charge_kg", 1}, {"distance_m", 5}};
+  EXPECT_EQ(pointers(server.request("POST", "/v1/response", both.dump())),
+            std::vector<std::string>{"/pulse"});
+  EXPECT_EQ(
+      pointers(server.request("POST", "/v1/response", json{{"element", elastic_element()}}.dump())),
+      std::vector<std::string>{"/charge"});
+  json charge = {{"element", elastic_element()},
+                 {"charge", {{"charge_kg", -1}, {"distance_m", "far"}, {"explosive", "x"}}}};
+  EXPECT_EQ(
+      pointers(server.request("POST", "/v1/response", charge.dump())),
+      (std::vector<std::string>{"/charge/charge_kg", "/charge/distance_m", "/charge/explosive"}));
+  // Bounded cost: a load lasting beyond 2000 natural periods (T = 63 ms) is refused.
+  json long_pulse = body;
+  long_pulse["pulse"]["duration_ms"] = 1e7;
+  EXPECT_EQ(pointers(server.request("POST", "/v1/response", long_pulse.dump())),
+            std::vector<std::string>{"/pulse/duration_ms"});
+  EXPECT_EQ(pointers(server.request("POST", "/v1/pi",
+                                    json{{"element", elastic_element()}, {"points", 1000}}.dump())),
+            std::vector<std::string>{"/points"});
+  EXPECT_EQ(pointers(server.request("POST", "/v1/pi", json{{"element", elastic_element()}}.dump())),
+            std::vector<std::string>{"/rotation_deg"});
+  EXPECT_EQ(server.request("POST", "/v1/pi", "{not json").status, 400);
+  EXPECT_EQ(server.request("POST", "/v1/pi", "x", {{"Content-Type", "text/plain"}}).status, 415);
+  EXPECT_EQ(server.request("GET", "/v1/pi").status, 405);
 }
 
 // GET /v1/blast and `brisance blast` read their parameters with one parser: the TNT factor and

@@ -4,8 +4,9 @@
 // does what a person would: submits a job from the form (a 422 first, shown next to its fields),
 // watches its progress bar reach done, opens the 3D player and checks the canvas drew the scene,
 // checks the queue page polls with ETags, the job list and its filter, the blast calculator's
-// log-log plots and table, and, against a server with --api-keys, that the dashboard asks for a
-// key and works once it is entered. Screenshots go to ARTIFACTS_DIR. Exits 0 when every test
+// log-log plots, table and pressure-time pulses, its response tab (displacement history and P-I
+// curve with the charge on it), and, against a server with --api-keys, that the dashboard asks
+// for a key and works once it is entered. Screenshots go to ARTIFACTS_DIR. Exits 0 when every test
 // passed, 1 on any failure, 2 when it cannot run (no playwright-core, no chromium, no web/dist).
 //
 //   node dashboard.mjs PATH/TO/brisance PATH/TO/web/dist ARTIFACTS_DIR
@@ -397,7 +398,52 @@ try {
     }
     const pso = Number(await page.textContent('#blast-values tr[data-field="incident_overpressure_kpa"] td.num'));
     check(pso > 50 && pso < 90, `P_so of 100 kg TNT at 15 m: ${pso} kPa`);
+    // The pressure-time pulse: incident and reflected, each starting at its peak at the arrival.
+    const pulse = page.locator("#plot-pulse");
+    await pulse.waitFor();
+    check(await pulse.locator("path.series").count() === 2, "the pulse plot lacks a series");
+    for (const cls of ["incident", "reflected"]) {
+      const d = (await pulse.locator(`path.series.${cls}`).getAttribute("d")) ?? "";
+      const ys = [...d.matchAll(/[ML][\d.]+,([\d.]+)/g)].map((m) => Number(m[1]));
+      check(ys.length >= 100, `${cls} pulse: ${ys.length} points`);
+      // SVG y grows downwards: the pulse starts at its peak (smallest y) and decays to zero.
+      check(ys[0] === Math.min(...ys) && ys.at(-1) > ys[0], `${cls} pulse does not decay from its peak`);
+    }
+    const reflectedTop = [...((await pulse.locator("path.series.reflected").getAttribute("d")) ?? "").matchAll(/M[\d.]+,([\d.]+)/g)][0]?.[1];
+    const incidentTop = [...((await pulse.locator("path.series.incident").getAttribute("d")) ?? "").matchAll(/M[\d.]+,([\d.]+)/g)][0]?.[1];
+    check(Number(reflectedTop) < Number(incidentTop), "the reflected peak is not above the incident one");
     await shot(page, "blast");
+  });
+
+  await test("response tab draws an element's displacement and its P-I curve with the charge on it", page, async () => {
+    await page.click("#tab-response");
+    await page.locator("#response-values").waitFor();
+    await page.waitForFunction(() => document.querySelectorAll("#response-plots svg.plot").length === 2);
+    check(await page.locator("#tab-panel-blast").isHidden(), "the blast panel still shows");
+    const history = Number(await page.locator("#plot-displacement path.series").getAttribute("data-points"));
+    check(history > 20, `displacement history of ${history} points`);
+    const pi = page.locator("#plot-pi");
+    check(Number(await pi.getAttribute("data-points")) === 60, `P-I curve of ${await pi.getAttribute("data-points")} points`);
+    check(await pi.locator("#pi-charge").count() === 1, "no charge point on the P-I curve");
+    check(await pi.locator("#pi-impulsive").count() === 1 && await pi.locator("#pi-quasi-static").count() === 1, "asymptotes missing");
+    const peak = Number(await page.textContent('#response-values tr[data-field="Peak displacement"] td.num'));
+    check(peak > 0, `peak displacement ${peak} mm`);
+    // The same numbers as the API: POST /v1/response for the first example at 100 kg, 15 m.
+    const element = JSON.parse(await page.inputValue("#element-json"));
+    const api = await page.evaluate(async (body) => (await fetch("/v1/response", {
+      method: "POST", headers: { "Content-Type": "application/json" }, body: JSON.stringify(body) })).json(),
+      { element, charge: { charge_kg: 100, distance_m: 15, explosive: "TNT", burst: "air", angle_deg: 0 }, history: false });
+    check(Math.abs(api.peak_displacement_m * 1e3 - peak) <= 1e-3 * api.peak_displacement_m * 1e3 + 1e-9,
+          `table ${peak} mm, API ${api.peak_displacement_m * 1e3} mm`);
+    // A bad field in the JSON is shown with its pointer.
+    await page.fill("#element-json", JSON.stringify({ ...element, mass_kg: -1 }));
+    await page.click("#compute-response");
+    await page.locator("#response-message.error").waitFor();
+    check((await page.textContent("#response-message")).includes("/element/mass_kg"), "the 422 pointer is not shown");
+    await page.selectOption("#element-example", { index: 1 });
+    await page.click("#compute-response");
+    await page.locator("#response-message:not(.error)").waitFor();
+    await shot(page, "blast-response");
   });
 
   await context.close();

@@ -3,6 +3,9 @@
     submit SCENE.json [--wait] [-o OUT.glb|OUT.json] [--priority N] [--progress]
     status ID | cancel ID | delete ID | queue | explosives
     blast --charge-kg M --distance-m R [--explosive NAME] [--burst air|surface] [--angle-deg A]
+    response --element E.json (--charge-kg M --distance-m R [--explosive NAME] [--burst B]
+             [--angle-deg A] | --pulse-peak-kpa P --pulse-duration-ms T [--pulse-shape S])
+    pi --element E.json [--ductility MU | --rotation-deg T] [--points N]
 
 Every command takes ``--url URL`` (default ``$BRISANCE_URL``, else http://127.0.0.1:8080) and
 ``--api-key KEY`` (default ``$BRISANCE_API_KEY``). Exit codes: 0 success; 2 invalid input (a bad
@@ -30,7 +33,7 @@ EXIT_FAILURE = 1
 EXIT_INVALID = 2
 
 # Problems that mean "your input is wrong" rather than "something failed".
-_INPUT_PROBLEMS = {"malformed-json", "invalid-parameter", "invalid-scene",
+_INPUT_PROBLEMS = {"malformed-json", "invalid-parameter", "invalid-scene", "invalid-input",
                    "idempotency-key-reused", "payload-too-large", "unsupported-media-type"}
 
 
@@ -149,10 +152,53 @@ def build_parser() -> argparse.ArgumentParser:
     blast.add_argument("--angle-deg", type=float, default=None)
     _add_common(blast)
 
+    response = commands.add_parser(
+        "response", help="an element's SDOF response to a charge or a pulse (docs/response.md)")
+    response.add_argument("--element", required=True, metavar="E.json")
+    response.add_argument("--charge-kg", type=float, default=None, metavar="M")
+    response.add_argument("--distance-m", type=float, default=None, metavar="R")
+    response.add_argument("--explosive", default=None)
+    response.add_argument("--burst", choices=("air", "surface"), default=None)
+    response.add_argument("--angle-deg", type=float, default=None)
+    response.add_argument("--pulse-peak-kpa", type=float, default=None, metavar="P")
+    response.add_argument("--pulse-duration-ms", type=float, default=None, metavar="T")
+    response.add_argument("--pulse-shape", choices=("triangular", "friedlander"), default=None)
+    _add_common(response)
+
+    pi = commands.add_parser("pi", help="an element's pressure-impulse curve")
+    pi.add_argument("--element", required=True, metavar="E.json")
+    pi.add_argument("--ductility", type=float, default=None, metavar="MU")
+    pi.add_argument("--rotation-deg", type=float, default=None, metavar="T")
+    pi.add_argument("--points", type=int, default=None, metavar="N")
+    _add_common(pi)
+
     for name, text in (("queue", "jobs by state and workers"),
                        ("explosives", "the explosives the server knows")):
         _add_common(commands.add_parser(name, help=text, description=text))
     return parser
+
+
+def _load_element(path: str) -> Dict[str, Any]:
+    try:
+        with open(path, encoding="utf-8") as handle:
+            return json.load(handle)
+    except (OSError, ValueError) as error:
+        raise UsageError("cannot read the element %s: %s" % (path, error)) from error
+
+
+def _cmd_response(client: Client, args: argparse.Namespace, out: TextIO) -> None:
+    charge = {key: value for key, value in (
+        ("charge_kg", args.charge_kg), ("distance_m", args.distance_m),
+        ("explosive", args.explosive), ("burst", args.burst), ("angle_deg", args.angle_deg))
+        if value is not None}
+    pulse = {key: value for key, value in (
+        ("peak_kpa", args.pulse_peak_kpa), ("duration_ms", args.pulse_duration_ms),
+        ("shape", args.pulse_shape)) if value is not None}
+    if bool(charge) == bool(pulse):
+        raise UsageError("give a charge (--charge-kg, --distance-m) or a pulse (--pulse-peak-kpa, "
+                         "--pulse-duration-ms), one of them")
+    _print_json(client.response(_load_element(args.element), charge=charge or None,
+                                pulse=pulse or None, history=False), out)
 
 
 def _load_job_body(path: str, priority: Optional[int]) -> Dict[str, Any]:
@@ -256,6 +302,11 @@ def run(argv: Optional[List[str]] = None, out: TextIO = sys.stdout,
         elif args.command == "blast":
             _print_json(client.blast(args.charge_kg, args.distance_m, explosive=args.explosive,
                                      burst=args.burst, angle_deg=args.angle_deg), out)
+        elif args.command == "response":
+            _cmd_response(client, args, out)
+        elif args.command == "pi":
+            _print_json(client.pi(_load_element(args.element), ductility=args.ductility,
+                                  rotation_deg=args.rotation_deg, points=args.points), out)
         elif args.command == "queue":
             _print_json(client.queue(), out)
         elif args.command == "explosives":

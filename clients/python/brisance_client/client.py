@@ -614,6 +614,39 @@ class Client:
             "explosive": explosive, "burst": burst,
             "angle_deg": None if angle_deg is None else repr(float(angle_deg))})
 
+    def response(self, element: Mapping[str, Any], *,
+                 charge: Optional[Mapping[str, Any]] = None,
+                 pulse: Optional[Mapping[str, Any]] = None,
+                 history: bool = True) -> Dict[str, Any]:
+        """The SDOF response of ``element`` (``POST /v1/response``, docs/response.md) to a
+        ``charge`` (``{"charge_kg", "distance_m", ...}`` as :meth:`blast`) or a ``pulse``
+        (``{"peak_kpa", "duration_ms", "shape"}``), exactly one. Raises :class:`ProblemError`
+        ``422 invalid-input`` with every bad field in ``.errors`` as ``(pointer, detail)``."""
+        body: Dict[str, Any] = {"element": element, "history": history}
+        if charge is not None:
+            body["charge"] = charge
+        if pulse is not None:
+            body["pulse"] = pulse
+        return self._post_json("/v1/response", body)
+
+    def pi(self, element: Mapping[str, Any], *, ductility: Optional[float] = None,
+           rotation_deg: Optional[float] = None, points: Optional[int] = None) -> Dict[str, Any]:
+        """The pressure-impulse curve of ``element`` for a ductility ratio or a support rotation
+        (``POST /v1/pi``), with its two asymptotes."""
+        body: Dict[str, Any] = {"element": element}
+        if ductility is not None:
+            body["ductility"] = float(ductility)
+        if rotation_deg is not None:
+            body["rotation_deg"] = float(rotation_deg)
+        if points is not None:
+            body["points"] = int(points)
+        return self._post_json("/v1/pi", body)
+
+    def _post_json(self, path: str, body: Mapping[str, Any]) -> Dict[str, Any]:
+        payload = json.dumps(body, separators=(",", ":"), allow_nan=False).encode("utf-8")
+        return self.request("POST", path, body=payload,
+                            headers={"Content-Type": "application/json"}).json()
+
     def explosives(self) -> List[Dict[str, Any]]:
         """The explosives a charge may name, with their TNT factors."""
         return self._json("GET", "/v1/explosives")["explosives"]

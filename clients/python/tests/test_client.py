@@ -477,6 +477,34 @@ class JobsTest(ServerTestCase):
             self.client.blast(-1, 15)
         self.assertEqual(caught.exception.parameters[0][0], "charge_kg")
         self.assertIn("TNT", [e["name"] for e in self.client.explosives()])
+        self.assertEqual(blast["inputs"]["explosive"], "TNT")
+
+    def test_response_and_pi(self) -> None:
+        # m = 100 kg, k = 1e6 N/m (omega = 100 rad/s); a 0.05 ms triangle of 1000 kPa carries
+        # I = 25 Pa*s: the impulsive response I A / (m omega) = 2.5 mm.
+        element = {"mass_kg": 100, "loaded_area_m2": 1,
+                   "resistance": {"type": "elastic_plastic", "stiffness_n_per_m": 1e6,
+                                  "yield_resistance_n": 1e4}}
+        r = self.client.response(element, pulse={"peak_kpa": 1000, "duration_ms": 0.05})
+        self.assertAlmostEqual(r["peak_displacement_m"], 2.5e-3, delta=2.5e-6)
+        self.assertIsNone(r["damage"])
+        self.assertEqual(len(r["history"]["time_ms"]), len(r["history"]["displacement_m"]))
+        charged = self.client.response(element, charge={"charge_kg": 100, "distance_m": 15},
+                                       history=False)
+        self.assertNotIn("history", charged)
+        self.assertAlmostEqual(charged["load"]["peak_pressure_kpa"],
+                               self.client.blast(100, 15)["reflected_overpressure_kpa"])
+        # mu = 2, y = 20 mm: impulsive asymptote sqrt(2 m R_y (y - y_el / 2)) / A
+        # = sqrt(2 * 100 * 1e4 * 0.015) = 173.2 Pa*s; quasi-static R_y (1 - 1 / (2 mu)) = 7.5 kPa.
+        curve = self.client.pi(element, ductility=2, points=6)
+        self.assertAlmostEqual(curve["impulsive_asymptote_kpa_ms"], (2 * 100 * 1e4 * 0.015) ** 0.5)
+        self.assertAlmostEqual(curve["quasi_static_asymptote_kpa"], 7.5)
+        self.assertEqual(len(curve["points"]), 6)
+        with self.assertRaises(ProblemError) as caught:
+            self.client.response(dict(element, mass_kg=-1), pulse={"peak_kpa": 1})
+        self.assertEqual((caught.exception.status, caught.exception.kind), (422, "invalid-input"))
+        self.assertEqual([p for p, _ in caught.exception.errors],
+                         ["/element/mass_kg", "/pulse/duration_ms"])
         queue = self.client.queue()
         self.assertEqual(set(queue["counts"]),
                          {"queued", "running", "succeeded", "failed", "cancelled"})
@@ -512,6 +540,29 @@ class JobsTest(ServerTestCase):
                 result = json.load(handle)
             self.assertEqual(result["frame_count"], 61)
             self.assertEqual(result["job"]["priority"], 3)
+
+    def test_cli_response_and_pi(self) -> None:
+        wall = str(REPO / "scenes" / "elements" / "rc_wall.json")
+        done = self.run_cli("response", "--element", wall, "--charge-kg", "100", "--distance-m", "15")
+        self.assertEqual(done.returncode, 0, done.stderr)
+        answer = json.loads(done.stdout)
+        self.assertEqual(answer["limits"], "rc_flexure")
+        self.assertAlmostEqual(answer["load"]["peak_pressure_kpa"],
+                               self.client.blast(100, 15)["reflected_overpressure_kpa"])
+        done = self.run_cli("pi", "--element", wall, "--ductility", "3", "--points", "5")
+        self.assertEqual(done.returncode, 0, done.stderr)
+        # rc_wall.json: K_M m = 720 kg, K_L = 0.64, R_y = 111.7 kN, y_el = R_y / k; at mu = 3 the
+        # impulsive asymptote is sqrt(2 K_M m R_y (3 - 1/2) y_el / K_L) / A (docs/response.md).
+        y_el = 111700 / 2.844e7
+        expected = (2 * 720 * 111700 * 2.5 * y_el / 0.64) ** 0.5 / 3
+        self.assertAlmostEqual(json.loads(done.stdout)["impulsive_asymptote_kpa_ms"], expected,
+                               delta=1e-9 * expected)
+        done = self.run_cli("response", "--element", wall, "--pulse-peak-kpa", "-1",
+                            "--pulse-duration-ms", "5")
+        self.assertEqual(done.returncode, 2, done.stderr)
+        self.assertRegex(done.stderr, r"(?m)^/pulse/peak_kpa: ")
+        done = self.run_cli("response", "--element", wall)
+        self.assertEqual(done.returncode, 2, done.stderr)
 
     def test_cli_invalid_scene_exits_2_with_pointers(self) -> None:
         with tempfile.TemporaryDirectory() as folder:

@@ -13,6 +13,12 @@ export type JobError = Schemas["JobError"];
 export type RunStats = Schemas["RunStats"];
 export type Queue = Schemas["Queue"];
 export type Blast = Schemas["Blast"];
+export type BlastPulse = Schemas["BlastPulse"];
+export type Element = Schemas["Element"];
+export type ResponseRequest = Schemas["ResponseRequest"];
+export type ElementResponse = Schemas["ElementResponse"];
+export type PiRequest = Schemas["PiRequest"];
+export type PiCurve = Schemas["PiCurve"];
 export type Explosive = Schemas["Explosive"];
 export type Explosives = Schemas["Explosives"];
 export type ResultSummary = Schemas["ResultSummary"];
@@ -207,6 +213,19 @@ export class BrisanceClient {
     return this.getJson<Blast>("/v1/blast", query, options);
   }
 
+  /**
+   * `POST /v1/response`: the SDOF response of an element to a charge or a pulse
+   * (docs/response.md); a bad field is a 422 `invalid-input` with its pointer.
+   */
+  async response(request: ResponseRequest, options: RequestOptions = {}): Promise<ElementResponse> {
+    return this.postJson<ElementResponse>("/v1/response", request, options);
+  }
+
+  /** `POST /v1/pi`: the pressure-impulse curve of an element for one damage limit. */
+  async pressureImpulse(request: PiRequest, options: RequestOptions = {}): Promise<PiCurve> {
+    return this.postJson<PiCurve>("/v1/pi", request, options);
+  }
+
   /** `GET /v1/explosives`: the explosives a charge may name. */
   async explosives(options: ConditionalOptions = {}): Promise<Conditional<Explosives>> {
     return this.conditional<Explosives>("/v1/explosives", {}, options);
@@ -227,6 +246,13 @@ export class BrisanceClient {
 
   private async getJson<T>(path: string, query: Query, options: RequestOptions): Promise<T> {
     const response = await this.send("GET", this.url(path, query), options);
+    return (await response.json()) as T;
+  }
+
+  private async postJson<T>(path: string, body: unknown, options: RequestOptions): Promise<T> {
+    const response = await this.send("POST", this.url(path), {
+      headers: { "Content-Type": "application/json" }, body: JSON.stringify(body), signal: options.signal,
+    });
     return (await response.json()) as T;
   }
 

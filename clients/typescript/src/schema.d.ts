@@ -444,12 +444,62 @@ export interface paths {
         patch?: never;
         trace?: never;
     };
+    "/v1/response": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        get?: never;
+        put?: never;
+        /**
+         * Structural response of an element
+         * @description The peak response of a structural element - a lumped-mass single-degree-of-freedom model
+         *     (docs/response.md) - to a charge (its reflected Friedlander pulse at `angle_deg`) or to a
+         *     given pulse, as `brisance response --json` (plus the thinned time history). Synchronous
+         *     and bounded: a load that ends more than 2000 natural periods of the element after
+         *     detonation is a `422` naming the field. Every problem of the body is listed at once with
+         *     its JSON pointer. The calculators only compute, so a `read` key may call them.
+         */
+        post: operations["postResponse"];
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
+    "/v1/pi": {
+        parameters: {
+            query?: never;
+            header?: never;
+            path?: never;
+            cookie?: never;
+        };
+        get?: never;
+        put?: never;
+        /**
+         * Pressure-impulse (P-I) curve of an element
+         * @description The iso-damage curve of an element for one limit (a ductility ratio, or a support
+         *     rotation): for each of `points` triangular pulse durations from 0.01 to 100 natural
+         *     periods, the peak pressure that just reaches the limit, with the impulsive and
+         *     quasi-static asymptotes in closed form (docs/response.md), as `brisance pi -o pi.json`.
+         *     Synchronous and bounded (at most 100 points, ductility at most 100, rotation at most 45
+         *     degrees).
+         */
+        post: operations["postPressureImpulse"];
+        delete?: never;
+        options?: never;
+        head?: never;
+        patch?: never;
+        trace?: never;
+    };
 }
 export type webhooks = Record<string, never>;
 export interface components {
     schemas: {
         /** @description The stable URN naming a kind of problem. */
-        ProblemType: "urn:brisance:problem:bad-request" | "urn:brisance:problem:malformed-json" | "urn:brisance:problem:invalid-parameter" | "urn:brisance:problem:unauthorized" | "urn:brisance:problem:forbidden" | "urn:brisance:problem:not-found" | "urn:brisance:problem:method-not-allowed" | "urn:brisance:problem:not-acceptable" | "urn:brisance:problem:job-finished" | "urn:brisance:problem:result-not-ready" | "urn:brisance:problem:payload-too-large" | "urn:brisance:problem:unsupported-media-type" | "urn:brisance:problem:invalid-scene" | "urn:brisance:problem:idempotency-key-reused" | "urn:brisance:problem:invalid-asset" | "urn:brisance:problem:insufficient-storage" | "urn:brisance:problem:overloaded" | "urn:brisance:problem:queue-full" | "urn:brisance:problem:internal-error" | "urn:brisance:problem:storage-unavailable";
+        ProblemType: "urn:brisance:problem:bad-request" | "urn:brisance:problem:malformed-json" | "urn:brisance:problem:invalid-parameter" | "urn:brisance:problem:unauthorized" | "urn:brisance:problem:forbidden" | "urn:brisance:problem:not-found" | "urn:brisance:problem:method-not-allowed" | "urn:brisance:problem:not-acceptable" | "urn:brisance:problem:job-finished" | "urn:brisance:problem:result-not-ready" | "urn:brisance:problem:payload-too-large" | "urn:brisance:problem:unsupported-media-type" | "urn:brisance:problem:invalid-scene" | "urn:brisance:problem:invalid-input" | "urn:brisance:problem:idempotency-key-reused" | "urn:brisance:problem:invalid-asset" | "urn:brisance:problem:insufficient-storage" | "urn:brisance:problem:overloaded" | "urn:brisance:problem:queue-full" | "urn:brisance:problem:internal-error" | "urn:brisance:problem:storage-unavailable";
         /** @description An RFC 9457 problem; `type` says which (see `ProblemType`). */
         Problem: {
             type: components["schemas"]["ProblemType"];
@@ -602,6 +652,13 @@ export interface components {
         InvalidSceneProblem: components["schemas"]["Problem"] & {
             /** @constant */
             type?: "urn:brisance:problem:invalid-scene";
+            /** @constant */
+            status?: 422;
+            errors: unknown;
+        };
+        InvalidInputProblem: components["schemas"]["Problem"] & {
+            /** @constant */
+            type?: "urn:brisance:problem:invalid-input";
             /** @constant */
             status?: 422;
             errors: unknown;
@@ -1175,7 +1232,28 @@ export interface components {
          *       "shock_velocity_m_s": 418.3,
          *       "dynamic_pressure_kpa": 14.6,
          *       "reflection_coefficient": 2.49,
-         *       "in_validity_range": true
+         *       "in_validity_range": true,
+         *       "incident_pulse": {
+         *         "peak_kpa": 69.1,
+         *         "duration_ms": 15.9,
+         *         "impulse_kpa_ms": 287.6,
+         *         "decay": 0.89
+         *       },
+         *       "reflected_pulse": {
+         *         "peak_kpa": 172.4,
+         *         "duration_ms": 15.9,
+         *         "impulse_kpa_ms": 633.2,
+         *         "decay": 1.83
+         *       },
+         *       "inputs": {
+         *         "charge_kg": 100,
+         *         "distance_m": 15,
+         *         "explosive": "TNT",
+         *         "tnt_factor": 1,
+         *         "burst": "air",
+         *         "surface_model": "hemispherical",
+         *         "angle_deg": 0
+         *       }
          *     }
          */
         Blast: {
@@ -1200,6 +1278,216 @@ export interface components {
             reflection_coefficient: number;
             /** @description Inside the fits' and the reflection chart's validity ranges. */
             in_validity_range: boolean;
+            incident_pulse: components["schemas"]["BlastPulse"];
+            reflected_pulse: components["schemas"]["BlastPulse"];
+            /** @description The query as the calculator understood it (canonical explosive name, defaults filled in). */
+            inputs: {
+                charge_kg: number;
+                distance_m: number;
+                /** @description The canonical name, or `custom` for a `tnt_factor`. */
+                explosive: string;
+                tnt_factor: number;
+                /** @enum {string} */
+                burst: "air" | "surface";
+                /** @enum {string} */
+                surface_model: "hemispherical" | "factor_1_8";
+                angle_deg: number;
+            };
+        };
+        /**
+         * @description A positive-phase Friedlander pulse, p(t) = P (1 - t/T) exp(-b t/T) for t from arrival,
+         *     its decay b solved so it integrates to the curves' impulse (lengthened or shortened where
+         *     no such b exists; then duration_ms and impulse_kpa_ms say what it is).
+         */
+        BlastPulse: {
+            peak_kpa: number;
+            duration_ms: number;
+            impulse_kpa_ms: number;
+            /** @description The Friedlander decay coefficient b. */
+            decay: number;
+        };
+        /**
+         * @description A structural element as a lumped-mass (SDOF) model (docs/response.md, field by field).
+         *     Unknown fields, and fields of another resistance type, are errors.
+         * @example {
+         *       "mass_kg": 1440,
+         *       "loaded_area_m2": 3,
+         *       "resistance": {
+         *         "type": "elastic_plastic",
+         *         "stiffness_n_per_m": 28440000,
+         *         "yield_resistance_n": 111700
+         *       },
+         *       "factors": {
+         *         "load": 0.64,
+         *         "mass": 0.5
+         *       },
+         *       "support": {
+         *         "span_m": 3
+         *       },
+         *       "limits": "rc_flexure"
+         *     }
+         */
+        Element: {
+            /** @description Mass of the real element, kg. */
+            mass_kg: number;
+            /** @description Area the pressure acts on, m^2. */
+            loaded_area_m2: number;
+            resistance: {
+                /** @enum {string} */
+                type: "elastic" | "elastic_plastic" | "bilinear" | "membrane";
+                stiffness_n_per_m: number;
+                /** @description All types but elastic (required there). */
+                yield_resistance_n?: number;
+                /** @description bilinear only, below stiffness_n_per_m. */
+                hardening_stiffness_n_per_m?: number;
+                /** @description membrane only, at least the yield displacement. */
+                membrane_onset_m?: number;
+                /** @description membrane only, below stiffness_n_per_m. */
+                membrane_stiffness_n_per_m?: number;
+            };
+            /** @default 0 */
+            damping_ratio?: number;
+            /** @description Equivalent-system transformation factors (1, 1 - already an equivalent SDOF). */
+            factors?: {
+                /** @default 1 */
+                load?: number;
+                /** @default 1 */
+                mass?: number;
+            };
+            support?: {
+                /** @description Support span, m; gives the support rotation. */
+                span_m: number;
+            };
+            /**
+             * @description Response limits (PDC-TR 06-08) the damage level is judged against.
+             * @enum {string}
+             */
+            limits?: "rc_flexure" | "steel_beam_flexure";
+        };
+        /**
+         * @description An element and its load - a charge or a pulse, exactly one.
+         * @example {
+         *       "element": {
+         *         "mass_kg": 1440,
+         *         "loaded_area_m2": 3,
+         *         "resistance": {
+         *           "type": "elastic_plastic",
+         *           "stiffness_n_per_m": 28440000,
+         *           "yield_resistance_n": 111700
+         *         },
+         *         "factors": {
+         *           "load": 0.64,
+         *           "mass": 0.5
+         *         },
+         *         "support": {
+         *           "span_m": 3
+         *         },
+         *         "limits": "rc_flexure"
+         *       },
+         *       "charge": {
+         *         "charge_kg": 100,
+         *         "distance_m": 15
+         *       }
+         *     }
+         */
+        ResponseRequest: {
+            element: components["schemas"]["Element"];
+            /** @description A charge, with the parameters and meaning of `GET /v1/blast`. */
+            charge?: {
+                charge_kg: number;
+                distance_m: number;
+                explosive?: string;
+                tnt_factor?: number;
+                /** @enum {string} */
+                burst?: "air" | "surface";
+                /** @enum {string} */
+                surface_model?: "hemispherical" | "factor_1_8";
+                angle_deg?: number;
+            };
+            /**
+             * @description A pulse from t = 0: triangular (linear decay) or Friedlander (decay fitted to
+             *     `impulse_kpa_ms` when given, else decay coefficient 1).
+             */
+            pulse?: {
+                peak_kpa: number;
+                duration_ms: number;
+                /**
+                 * @default triangular
+                 * @enum {string}
+                 */
+                shape?: "triangular" | "friedlander";
+                impulse_kpa_ms?: number;
+            };
+            /**
+             * @description Include the time history (at most 1000 samples and the peak).
+             * @default true
+             */
+            history?: boolean;
+        };
+        ElementResponse: {
+            /** @description Largest displacement of the control point (midspan), in the load's direction. */
+            peak_displacement_m: number;
+            /** @description From detonation (charge) or the pulse's start. */
+            time_to_peak_ms: number;
+            /** @description Peak over elastic limit; null for an elastic model. */
+            ductility: number | null;
+            /** @description atan(peak / (span / 2)); null without `support`. */
+            support_rotation_deg: number | null;
+            /** @description Damage level against the element's `limits`; null without them. */
+            damage: null | ("superficial" | "moderate" | "heavy" | "hazardous" | "blowout");
+            limits: string | null;
+            permanent_set_m: number;
+            /** @description Largest rebound (most negative displacement). */
+            min_displacement_m: number;
+            natural_period_ms: number;
+            elastic_limit_m: number | null;
+            load: {
+                /** @enum {string} */
+                shape: "triangular" | "friedlander";
+                peak_pressure_kpa: number;
+                impulse_kpa_ms: number;
+                duration_ms: number;
+                arrival_time_ms: number;
+                in_validity_range: boolean;
+            };
+            end_time_ms: number;
+            steps: number;
+            /** @description Solver warnings (non-finite state, step cap); the result is then partial. */
+            warnings: number;
+            history?: {
+                time_ms: number[];
+                displacement_m: number[];
+                velocity_m_s: number[];
+                /** @description Resistance of the real element. */
+                resistance_kn: number[];
+            };
+        };
+        /**
+         * @description An element and its damage limit: `ductility` (0 < mu <= 100; default 1 for a plastic
+         *     element) or `rotation_deg` (0 < theta <= 45, needs `support.span_m`), not both.
+         */
+        PiRequest: {
+            element: components["schemas"]["Element"];
+            ductility?: number;
+            rotation_deg?: number;
+            /** @default 60 */
+            points?: number;
+        };
+        PiCurve: {
+            displacement_limit_m: number;
+            ductility: number | null;
+            rotation_deg: number | null;
+            natural_period_ms: number;
+            impulsive_asymptote_kpa_ms: number;
+            quasi_static_asymptote_kpa: number;
+            points: {
+                duration_ms: number;
+                peak_pressure_kpa: number;
+                impulse_kpa_ms: number;
+            }[];
+            solves: number;
+            /** @description Durations where the bisection could not bracket the limit. */
+            warnings: number;
         };
         Explosive: {
             name: string;
@@ -1872,6 +2160,58 @@ export interface components {
                 [name: string]: unknown;
             };
             content?: never;
+        };
+        /** @description The body is not JSON (`malformed-json`), or the request is not valid HTTP (`bad-request`). */
+        MalformedBody: {
+            headers: {
+                "X-Request-Id": components["headers"]["X-Request-Id"];
+                [name: string]: unknown;
+            };
+            content: {
+                "application/problem+json": components["schemas"]["MalformedJsonProblem"] | components["schemas"]["BadHttpRequestProblem"];
+            };
+        };
+        /** @description The body was sent with a `Content-Type` that is not JSON. */
+        UnsupportedMediaType: {
+            headers: {
+                "X-Request-Id": components["headers"]["X-Request-Id"];
+                [name: string]: unknown;
+            };
+            content: {
+                "application/problem+json": components["schemas"]["UnsupportedMediaTypeProblem"];
+            };
+        };
+        /**
+         * @description The body is JSON but wrong (`invalid-input`): every problem is in `errors[]` with a JSON
+         *     pointer into the body - element fields, the load, the limit, and loads too long for the
+         *     element (the work bound).
+         */
+        InvalidInput: {
+            headers: {
+                "X-Request-Id": components["headers"]["X-Request-Id"];
+                [name: string]: unknown;
+            };
+            content: {
+                /**
+                 * @example {
+                 *       "type": "urn:brisance:problem:invalid-input",
+                 *       "title": "Invalid input",
+                 *       "status": 422,
+                 *       "detail": "2 problem(s) in the request; each is listed in 'errors' with a JSON pointer into the request body",
+                 *       "errors": [
+                 *         {
+                 *           "pointer": "/element/resistance/stiffness_n_per_m",
+                 *           "detail": "must be > 0"
+                 *         },
+                 *         {
+                 *           "pointer": "/pulse/shape",
+                 *           "detail": "must be 'triangular' or 'friedlander', got 'square'"
+                 *         }
+                 *       ]
+                 *     }
+                 */
+                "application/problem+json": components["schemas"]["InvalidInputProblem"];
+            };
         };
         /** @description The request is not valid HTTP/1.1 (`bad-request`); the connection is closed. */
         MalformedRequest: {
@@ -3077,6 +3417,84 @@ export interface operations {
             304: components["responses"]["NotModified"];
             400: components["responses"]["MalformedRequest"];
             401: components["responses"]["Unauthorized"];
+            500: components["responses"]["InternalError"];
+        };
+    };
+    postResponse: {
+        parameters: {
+            query?: never;
+            header?: {
+                /**
+                 * @description The client's id for this request, echoed in the response's `X-Request-Id` and logged when
+                 *     it is 1-64 characters of `A-Z a-z 0-9 . _ -`; otherwise the server makes one.
+                 * @example render-42.attempt-1
+                 */
+                "X-Request-Id"?: components["parameters"]["RequestId"];
+            };
+            path?: never;
+            cookie?: never;
+        };
+        /** @description A missing `Content-Type` is taken as JSON; any type without `json` is a `415`. */
+        requestBody: {
+            content: {
+                "application/json": components["schemas"]["ResponseRequest"];
+            };
+        };
+        responses: {
+            /** @description The response. */
+            200: {
+                headers: {
+                    "X-Request-Id": components["headers"]["X-Request-Id"];
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["ElementResponse"];
+                };
+            };
+            400: components["responses"]["MalformedBody"];
+            401: components["responses"]["Unauthorized"];
+            413: components["responses"]["PayloadTooLarge"];
+            415: components["responses"]["UnsupportedMediaType"];
+            422: components["responses"]["InvalidInput"];
+            500: components["responses"]["InternalError"];
+        };
+    };
+    postPressureImpulse: {
+        parameters: {
+            query?: never;
+            header?: {
+                /**
+                 * @description The client's id for this request, echoed in the response's `X-Request-Id` and logged when
+                 *     it is 1-64 characters of `A-Z a-z 0-9 . _ -`; otherwise the server makes one.
+                 * @example render-42.attempt-1
+                 */
+                "X-Request-Id"?: components["parameters"]["RequestId"];
+            };
+            path?: never;
+            cookie?: never;
+        };
+        /** @description A missing `Content-Type` is taken as JSON; any type without `json` is a `415`. */
+        requestBody: {
+            content: {
+                "application/json": components["schemas"]["PiRequest"];
+            };
+        };
+        responses: {
+            /** @description The curve. */
+            200: {
+                headers: {
+                    "X-Request-Id": components["headers"]["X-Request-Id"];
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/json": components["schemas"]["PiCurve"];
+                };
+            };
+            400: components["responses"]["MalformedBody"];
+            401: components["responses"]["Unauthorized"];
+            413: components["responses"]["PayloadTooLarge"];
+            415: components["responses"]["UnsupportedMediaType"];
+            422: components["responses"]["InvalidInput"];
             500: components["responses"]["InternalError"];
         };
     };

@@ -98,6 +98,20 @@ TEST(ParseElement, InvalidFieldsNameTheirPath) {
   EXPECT_TRUE(has(errors_of(nlohmann::json::array()), "/ must be an object"));
 }
 
+TEST(ParseElement, LimitsNameATable) {
+  nlohmann::json j = valid();
+  j["limits"] = "steel_beam_flexure";
+  const ElementParse p = parse_element(j);
+  ASSERT_TRUE(p.element);
+  EXPECT_EQ(*p.element->limits, "steel_beam_flexure");
+  EXPECT_FALSE(parse_element(valid()).element->limits);
+  j["limits"] = "glass";
+  EXPECT_TRUE(has(errors_of(j),
+                  "/limits must name a table of response limits: rc_flexure, steel_beam_flexure"));
+  j["limits"] = 3;
+  EXPECT_FALSE(parse_element(j).element);
+}
+
 TEST(Factors, LoadMassRatioMatchesBiggsColumn) {
   // Biggs 1964 tables 5.1-5.3 also print K_LM; the transcribed K_L, K_M must reproduce it.
   struct Row {

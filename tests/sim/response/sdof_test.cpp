@@ -100,6 +100,19 @@ TEST(Sdof, ElasticTriangleMatchesClosedFormDlfFrom0p01To100) {
   std::printf("DLF worst relative error over 30 ratios: %.3e\n", worst);
 }
 
+// An undamped elastic element repeats its peak every period: the time to peak is the first one,
+// a quarter period after a short pulse (the first version reported a later, equal peak that
+// round-off made larger by 1e-16).
+TEST(Sdof, TimeToPeakIsTheFirstPeak) {
+  const SdofSystem sys = equivalent_system(elastic_element(100.0, 1e6));  // T = 2 pi / 100 s
+  SolveOptions opt;
+  opt.end_time_s = 20.0 * sys.natural_period_s();
+  const double td = 1e-3 * sys.natural_period_s();
+  const SdofResult r = solve_sdof(sys, triangle(1e6, td), opt);
+  EXPECT_NEAR(r.time_to_peak_s, td / 3.0 + 0.25 * sys.natural_period_s(),
+              1e-3 * sys.natural_period_s());
+}
+
 TEST(Sdof, ElasticLimitsImpulsiveAndQuasiStatic) {
   const Element e = elastic_element(50.0, 2.0e6);
   const SdofSystem sys = equivalent_system(e);

@@ -1,10 +1,15 @@
 // #/blast: the blast calculator. For one charge, /v1/blast is asked at ~60 log-spaced distances
 // and P_so, i_s and t_a are drawn against distance on log-log axes; the table gives every field
-// at one distance.
-import { type Blast, type BlastQuery, client, describe, type Explosive, isAbort } from "../api";
+// at one distance, with its incident and reflected pressure-time pulses. The response tab
+// (#/blast?tab=response) loads a structural element (an example or edited JSON) with that charge
+// at that distance: POST /v1/response draws its displacement history, POST /v1/pi its P-I curve
+// with the charge as a point on it.
+import { type Blast, type BlastPulse, type BlastQuery, client, describe, type Element, type Explosive, isAbort,
+         ProblemError } from "../api";
 import { h, mount } from "../dom";
+import { elementTemplates } from "../elements";
 import { num } from "../format";
-import { logLogPlot, type PlotPoint } from "../plot";
+import { linePlot, logLogPlot, type PlotPoint } from "../plot";
 import type { View } from "../view";
 
 const SAMPLES = 60;
@@ -30,6 +35,13 @@ const TABLE: { key: keyof Blast; label: string; unit: string }[] = [
   { key: "reflection_coefficient", label: "Reflection coefficient C_R", unit: "" },
   { key: "in_validity_range", label: "Inside the fits' validity range", unit: "" },
 ];
+
+/** A positive-phase Friedlander pulse, p(t) = P (1 - t/T) exp(-b t/T), sampled from arrival. */
+export const pulseSamples = (pulse: BlastPulse, arrivalMs: number, count = 120): [number, number][] =>
+  Array.from({ length: count }, (_, i) => {
+    const u = i / (count - 1);
+    return [arrivalMs + u * pulse.duration_ms, pulse.peak_kpa * (1 - u) * Math.exp(-pulse.decay * u)];
+  });
 
 /** `count` distances from `lo` to `hi`, evenly spaced in log. */
 export const logSpace = (lo: number, hi: number, count: number): number[] =>
@@ -67,7 +79,46 @@ export const blastView: View = async (root, route, signal) => {
     ["air", "surface"].map((b) => h("option", { value: b, selected: b === (q.get("burst") ?? "air") }, b)));
   const plots = h("div", { class: "plots", id: "blast-plots" });
   const table = h("div", { id: "blast-table" });
+  const pulses = h("div", { class: "plots", id: "pulse-plots" });
   const message = h("p", { id: "blast-message", role: "status", class: "muted" });
+
+  // The response tab.
+  const startName = elementTemplates[0]?.name ?? "";
+  const elementJson = h("textarea", { id: "element-json", class: "element-json", spellcheck: "false",
+                                      "aria-label": "Element JSON" });
+  elementJson.value = JSON.stringify(elementTemplates[0]?.element ?? {}, null, 2);
+  const elementPick = h("select", { id: "element-example", name: "element-example",
+                                    onchange: () => {
+                                      const t = elementTemplates.find((e) => e.name === elementPick.value);
+                                      if (t) elementJson.value = JSON.stringify(t.element, null, 2);
+                                    } },
+    elementTemplates.map((e) => h("option", { value: e.name, selected: e.name === startName }, e.name)));
+  const responseMessage = h("p", { id: "response-message", role: "status", class: "muted" });
+  const responseSummary = h("div", { id: "response-summary" });
+  const responsePlots = h("div", { class: "plots", id: "response-plots" });
+  const responseForm = h("form", { id: "response-form", class: "toolbar wrap",
+                                   onsubmit: (e: Event) => { e.preventDefault(); void respond(); } },
+    h("label", { class: "field" }, "Element ", elementPick),
+    input("pi-ductility", "P–I limit: ductility μ", q.get("ductility") ?? "3"),
+    input("pi-rotation", "or rotation θ (°)", q.get("rotation_deg") ?? ""),
+    h("button", { type: "submit", class: "primary", id: "compute-response" }, "Compute response"));
+  const blastSection = h("section", { id: "tab-panel-blast" },
+    plots, h("h2", null, "At one distance"), table, pulses);
+  const responseSection = h("section", { id: "tab-panel-response", hidden: true },
+    h("p", { class: "muted small" }, "The element (lumped-mass SDOF model, docs/response.md) loaded by the reflected ",
+      "pulse of the charge above at the table's distance and angle. Edit the JSON or pick an example."),
+    responseForm, elementJson, responseMessage, responseSummary, responsePlots);
+  const tabButton = (id: string, label: string, panel: HTMLElement) =>
+    h("button", { type: "button", id, role: "tab", "aria-selected": "false", onclick: () => select(id, panel) }, label);
+  const tabs = h("div", { class: "tabs", role: "tablist" },
+    tabButton("tab-blast", "Blast wave", blastSection), tabButton("tab-response", "Element response", responseSection));
+  let responded = false;
+  function select(id: string, panel: HTMLElement): void {
+    for (const button of tabs.querySelectorAll("button")) button.setAttribute("aria-selected", String(button.id === id));
+    blastSection.hidden = panel !== blastSection;
+    responseSection.hidden = panel !== responseSection;
+    if (panel === responseSection && !responded) void respond();
+  }
   const form = h("form", { id: "blast-form", class: "toolbar wrap", onsubmit: (e: Event) => { e.preventDefault(); void compute(); } },
     input("charge", "Charge (kg)", q.get("charge_kg") ?? "100"),
     h("label", { class: "field" }, "Explosive ", explosive),
@@ -80,9 +131,10 @@ export const blastView: View = async (root, route, signal) => {
   mount(root, h("h1", null, "Blast calculator"),
     h("p", { class: "muted small" }, "Kingery–Bulmash fits (free-air spherical or hemispherical surface burst). ",
       "Dashed: outside the fits' validity range."),
-    form, message, plots, h("h2", null, "At one distance"), table);
+    form, message, tabs, blastSection, responseSection);
 
   let running: AbortController | null = null;
+  let current: { query: BlastQuery; blast: Blast } | null = null;
 
   async function compute(): Promise<void> {
     running?.abort();
@@ -116,6 +168,16 @@ export const blastView: View = async (root, route, signal) => {
         return h("tr", { "data-field": row.key }, h("th", null, row.label),
           h("td", { class: "num" }, typeof v === "number" ? num(v, 4) : v ? "yes" : "no"), h("td", { class: "unit" }, row.unit));
       }))));
+      mount(pulses, linePlot({
+        id: "plot-pulse", title: `Pressure–time pulse at ${num(distance)} m`, xLabel: "time since detonation (ms)",
+        yLabel: "overpressure (kPa)",
+        series: [
+          { name: "incident", cls: "incident", points: pulseSamples(one.incident_pulse, one.arrival_time_ms) },
+          { name: `reflected (${num(angle)}°)`, cls: "reflected", points: pulseSamples(one.reflected_pulse, one.arrival_time_ms) },
+        ],
+      }));
+      current = { query: { ...base, distance_m: distance }, blast: one };
+      if (!responseSection.hidden) void respond();
       message.textContent = `${charge} kg ${explosive.value}, ${burst.value} burst, at ${distance} m: ` +
         `P_so ${num(one.incident_overpressure_kpa)} kPa.`;
       history.replaceState(null, "", `#/blast?charge_kg=${charge}&explosive=${encodeURIComponent(explosive.value)}` +
@@ -126,5 +188,87 @@ export const blastView: View = async (root, route, signal) => {
       message.textContent = describe(error);
     }
   }
+  let responding: AbortController | null = null;
+
+  async function respond(): Promise<void> {
+    if (!current) return;
+    responded = true;
+    responding?.abort();
+    const controller = new AbortController();
+    responding = controller;
+    signal.addEventListener("abort", () => controller.abort(), { once: true });
+    let element: Element;
+    try {
+      element = JSON.parse(elementJson.value) as Element;
+    } catch (error) {
+      responseMessage.className = "error";
+      responseMessage.textContent = `The element is not valid JSON: ${error instanceof Error ? error.message : String(error)}`;
+      return;
+    }
+    const { query, blast } = current;
+    const ductility = Number(root.querySelector<HTMLInputElement>("#pi-ductility")?.value.trim() || "NaN");
+    const rotationText = root.querySelector<HTMLInputElement>("#pi-rotation")?.value.trim() ?? "";
+    const limit = rotationText ? { rotation_deg: Number(rotationText) } : { ductility };
+    responseMessage.className = "muted";
+    responseMessage.textContent = "Asking /v1/response and /v1/pi…";
+    try {
+      const charge = { charge_kg: query.charge_kg, distance_m: query.distance_m, explosive: query.explosive,
+                       burst: query.burst, angle_deg: query.angle_deg };
+      const [response, pi] = await Promise.all([
+        client.response({ element, charge }, { signal: controller.signal }),
+        client.pressureImpulse({ element, ...limit }, { signal: controller.signal }),
+      ]);
+      if (controller.signal.aborted) return;
+      const rows: [string, string, string][] = [
+        ["Peak displacement", num(response.peak_displacement_m * 1e3, 4), "mm"],
+        ["Time to peak", num(response.time_to_peak_ms, 4), "ms"],
+        ["Ductility μ", response.ductility === null ? "–" : num(response.ductility, 3), ""],
+        ["Support rotation θ", response.support_rotation_deg === null ? "–" : num(response.support_rotation_deg, 3), "°"],
+        ["Damage", response.damage ?? "(no limits in the element)", response.limits ?? ""],
+        ["Natural period T", num(response.natural_period_ms, 4), "ms"],
+      ];
+      mount(responseSummary, h("table", { class: "kv", id: "response-values" }, h("tbody", null, rows.map(([label, value, unit]) =>
+        h("tr", { "data-field": label }, h("th", null, label), h("td", { class: "num" }, value), h("td", { class: "unit" }, unit))))));
+      const history = response.history;
+      mount(responsePlots,
+        linePlot({ id: "plot-displacement", title: "Displacement history", xLabel: "time since detonation (ms)",
+                   yLabel: "displacement (mm)",
+                   series: [{ name: "midspan", cls: "displacement",
+                              points: (history?.time_ms ?? []).map((t, i): [number, number] => [t, (history?.displacement_m[i] ?? 0) * 1e3]) }] }),
+        logLogPlot({ id: "plot-pi", title: `P–I curve, limit ${num(pi.displacement_limit_m * 1e3)} mm`, xLabel: "impulse (kPa·ms)",
+                     yLabel: "kPa", xUnit: "kPa·ms",
+                     points: pi.points.map((p): PlotPoint => ({ x: p.impulse_kpa_ms, y: p.peak_pressure_kpa, valid: true })),
+                     hlines: [{ y: pi.quasi_static_asymptote_kpa, id: "pi-quasi-static" }],
+                     vlines: [{ x: pi.impulsive_asymptote_kpa_ms, id: "pi-impulsive" }],
+                     dots: [{ x: blast.reflected_impulse_kpa_ms, y: blast.reflected_overpressure_kpa, id: "pi-charge",
+                              label: `${num(query.charge_kg)} kg at ${num(query.distance_m)} m` }] }));
+      responseMessage.textContent = `Peak ${num(response.peak_displacement_m * 1e3)} mm; ` +
+        `the charge is ${above(pi.points, blast) ? "above" : "below"} the P–I curve.`;
+    } catch (error) {
+      if (isAbort(error)) return;
+      responseMessage.className = "error";
+      responseMessage.textContent = error instanceof ProblemError && error.pointerErrors.length
+        ? error.pointerErrors.map((e) => `${e.pointer}: ${e.detail}`).join("; ")
+        : describe(error);
+    }
+  }
+
   await compute();
+  select(q.get("tab") === "response" ? "tab-response" : "tab-blast",
+         q.get("tab") === "response" ? responseSection : blastSection);
 };
+
+/** Whether the charge's (impulse, pressure) lies beyond the curve: above it at its impulse. */
+function above(points: { impulse_kpa_ms: number; peak_pressure_kpa: number }[], blast: Blast): boolean {
+  const i = blast.reflected_impulse_kpa_ms, p = blast.reflected_overpressure_kpa;
+  const sorted = [...points].sort((a, b) => a.impulse_kpa_ms - b.impulse_kpa_ms);
+  if (!sorted.length || i < sorted[0]!.impulse_kpa_ms) return false;
+  for (let k = 1; k < sorted.length; k++) {
+    const a = sorted[k - 1]!, b = sorted[k]!;
+    if (i <= b.impulse_kpa_ms) {
+      const u = Math.log(i / a.impulse_kpa_ms) / Math.log(b.impulse_kpa_ms / a.impulse_kpa_ms);
+      return p > a.peak_pressure_kpa * (b.peak_pressure_kpa / a.peak_pressure_kpa) ** u;
+    }
+  }
+  return p > sorted.at(-1)!.peak_pressure_kpa;
+}

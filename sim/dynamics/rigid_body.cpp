@@ -86,6 +86,25 @@ Vec3 free_rotation(const BodyModel& model, const Mat3& rotation, BodyState& stat
   return rotation.lazyProduct(w);
 }
 
+// free_rotation in n equal substeps, n enough to keep each turn under the world's limit: a fast
+// spinner (a small glass fragment) turns accurately without shortening every body's step.
+Vec3 free_rotation_substeps(const BodyModel& model, const Mat3& rotation, BodyState& state,
+                            double dt, double max_turn_rad) {
+  const Vec3 local = rotation.transpose().lazyProduct(state.angular_momentum);
+  const Vec3 spin = model.diagonal_inertia
+                        ? Vec3(model.inverse_inertia_diagonal.cwiseProduct(local))
+                        : Vec3(model.inverse_inertia_body.lazyProduct(local));
+  // At most 10 000 substeps: beyond that a body spins at over 10^4 turns of the limit a step.
+  const double turns = std::min(std::ceil(spin.norm() * dt / max_turn_rad), 1e4);
+  if (!(turns > 1.0)) return free_rotation(model, rotation, state, dt);
+  const int substeps = static_cast<int>(turns);
+  const double h = dt / static_cast<double>(substeps);
+  Vec3 turned = free_rotation(model, rotation, state, h);
+  for (int k = 1; k < substeps; ++k)
+    turned = free_rotation(model, state.orientation.toRotationMatrix(), state, h);
+  return turned;
+}
+
 // Quadratic drag along the velocity, integrated exactly for straight-line motion:
 // dv/dt = -k v^2 gives v(dt) = v / (1 + k v dt), stable for any step (thesis eq. 3.2).
 // `rotation` is the body's orientation as a matrix (shared with the rotation step).
@@ -133,7 +152,10 @@ Vec3 integrate_rotation(const BodyModel& model, const Mat3& start_rotation, Body
       // scheme before this one) drifted +5 % in energy in 1 s for a 1 mm plate tumbling at
       // 0.06 rad a step, +65 % in 10 s.
       state.angular_momentum += loads.angular_impulse;
-      turned = free_rotation(model, start_rotation, state, dt);
+      turned = world.max_turn_per_substep_rad > 0.0
+                   ? free_rotation_substeps(model, start_rotation, state, dt,
+                                            world.max_turn_per_substep_rad)
+                   : free_rotation(model, start_rotation, state, dt);
       break;
     }
     case Integrator::rk4: {

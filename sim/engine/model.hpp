@@ -115,6 +115,9 @@ struct Timing {
   std::optional<double> time_step_s;  // fixed step; absent: adaptive from `tolerance`
   double tolerance = 1e-3;
   bool sleep = true;  // bodies at rest on the ground stop being integrated
+  // Spinning bodies turn in substeps of their own (WorldSettings::max_turn_per_substep_rad):
+  // the step no longer shrinks with the fastest angular speed.
+  bool spin_substeps = false;
 };
 
 // Contacts between bodies (`simulation.collisions`).
@@ -208,9 +211,10 @@ void share_clearing_across_surfaces(const std::vector<BodySource>& sources, Mode
 void prepare_shielding(const scene::SimulationSpec& simulation,
                        const std::vector<BodySource>& sources, Model& model, Stats& stats);
 
-// The read-only model; moves each source's mesh into `bodies` (the result's body list).
+// The read-only model; moves each source's mesh into `bodies` (the result's body list). The
+// shielding stage's wall-clock time goes to `shielding_wall_time_s`, s, if given.
 Model prepare(const scene::Scene& scene, std::vector<BodySource>& sources,
-              std::vector<BodyInfo>& bodies, Stats& stats);
+              std::vector<BodyInfo>& bodies, Stats& stats, double* shielding_wall_time_s = nullptr);
 
 // The pose of a body's shape origin from the state of its centre of mass.
 Pose origin_pose(const Model& model, std::size_t body, const dynamics::BodyState& state);

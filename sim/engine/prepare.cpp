@@ -2,6 +2,7 @@
 // settings, one body per source (mass properties, hull, drag shape, panels, hold, initial
 // motion), the charges, clearing distances, and the panel events in order of arrival.
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstddef>
 
@@ -71,6 +72,9 @@ void prepare_world(const scene::Scene& scene, Model& model) {
   model.timing.time_step_s = sim.time_step_s;
   model.timing.tolerance = sim.tolerance;
   model.timing.sleep = sim.sleep;
+  model.timing.spin_substeps = sim.spin_substeps;
+  // The same turn per step as the adaptive step allows everyone (run.cpp, next_step).
+  if (sim.spin_substeps) model.world.max_turn_per_substep_rad = 2.0 * std::sqrt(sim.tolerance);
   model.collisions = sim.collisions == scene::CollisionMode::on    ? Collisions::on
                      : sim.collisions == scene::CollisionMode::off ? Collisions::off
                                                                    : Collisions::automatic;
@@ -177,7 +181,7 @@ void prepare_events(const std::vector<BodySource>& sources, Model& model, Stats&
 }  // namespace
 
 Model prepare(const scene::Scene& scene, std::vector<BodySource>& sources,
-              std::vector<BodyInfo>& bodies, Stats& stats) {
+              std::vector<BodyInfo>& bodies, Stats& stats, double* shielding_wall_time_s) {
   Model model;
   prepare_world(scene, model);
   const double gravity = scene.environment.gravity_m_s2.norm();
@@ -202,7 +206,11 @@ Model prepare(const scene::Scene& scene, std::vector<BodySource>& sources,
       if (model.fragment[model.panels[p].body]) model.panels[p].clearing_distance_m = own[p];
   }
 
+  const auto shielding_start = std::chrono::steady_clock::now();
   prepare_shielding(scene.simulation, sources, model, stats);
+  if (shielding_wall_time_s)
+    *shielding_wall_time_s =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - shielding_start).count();
   prepare_events(sources, model, stats);
 
   // The result's bodies, each with its mesh (moved out of its source: prepare is done with it).

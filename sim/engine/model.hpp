@@ -123,6 +123,13 @@ struct Timing {
 // Contacts between bodies (`simulation.collisions`).
 enum class Collisions : std::uint8_t { automatic, on, off };
 
+// An anchored body off the ground that touches movable bodies (not fragments) at the start, and
+// those bodies.
+struct EmbeddedAnchor {
+  std::uint32_t body;
+  std::vector<std::uint32_t> neighbours;
+};
+
 // Everything that does not change while stepping (STYLE.md §1), per body in body order.
 struct Model {
   std::vector<dynamics::BodyModel> bodies;
@@ -136,6 +143,10 @@ struct Model {
   // The standing bodies each body rests on at the start (Footing::supports): with collisions on,
   // a held body whose supports have all been released is released too.
   std::vector<std::vector<std::uint32_t>> supports;
+  // Anchored bodies set into movable ones (a window's frame in a brick wall), with the movable
+  // bodies they touch at the start (embedded_anchors): if all of those are blown away, the
+  // anchored body is left floating, and the run says so.
+  std::vector<EmbeddedAnchor> embedded_anchors;
   // Fragments of broken panes (thesis §6.7): whether a body is one, and the earliest time it
   // may break free (the wave's arrival at its centroid; 0 for others).
   std::vector<std::uint8_t> fragment;
@@ -200,6 +211,11 @@ struct Footing {
   std::vector<std::vector<std::uint32_t>> supports;  // the standing bodies it rests on
 };
 Footing footing(const std::vector<BodySource>& sources, std::optional<double> ground_height_m);
+
+// The anchored bodies set into movable ones at the start (prepare_holds.cpp): within 5 mm of
+// them, boxes overlapping across the gap, and not standing on the ground themselves.
+std::vector<EmbeddedAnchor> embedded_anchors(const std::vector<BodySource>& sources,
+                                             std::optional<double> ground_height_m);
 
 // Widens each panel's clearing distance to the contiguous coplanar surface it lies in
 // (clearing_surfaces.cpp).

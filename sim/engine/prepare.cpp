@@ -186,8 +186,10 @@ Model prepare(const scene::Scene& scene, std::vector<BodySource>& sources,
   prepare_world(scene, model);
   const double gravity = scene.environment.gravity_m_s2.norm();
   const std::vector<double> normal_force = supported_weights(sources, gravity);
-  Footing feet = footing(
-      sources, model.ground ? std::optional(model.ground->height_m) : std::optional<double>());
+  const std::optional<double> ground_height_m =
+      model.ground ? std::optional(model.ground->height_m) : std::optional<double>();
+  Footing feet = footing(sources, ground_height_m);
+  model.embedded_anchors = embedded_anchors(sources, ground_height_m);
   for (std::size_t b = 0; b < sources.size(); ++b)
     prepare_body(sources[b], normal_force[b], feet.standing[b], gravity, model, stats);
   model.supports = std::move(feet.supports);

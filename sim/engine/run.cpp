@@ -15,6 +15,9 @@ namespace {
 
 // A sum of finite numbers is finite unless it overflows (beyond 1e308: no state of a body),
 // and a NaN or an infinity in any term makes it NaN or infinite: one test instead of thirteen.
+// How far every body an anchored body was set into must have moved for it to be left alone, m.
+constexpr double kAnchorLeftAlone_m = 0.05;
+
 bool finite(const dynamics::BodyState& s) {
   return std::isfinite(s.position.sum() + s.velocity.sum() + s.orientation.coeffs().sum() +
                        s.angular_momentum.sum());
@@ -380,6 +383,23 @@ void Run::finish() {
     result_.final_state.push_back(std::move(final_state));
     if (state_.motion[b] == Motion::held) ++result_.stats.bodies_never_released;
   }
+  // An anchored body (a window's frame) whose every neighbour was blown away floats in the air:
+  // anchors hold to the world, not to the bodies around them (docs/scene-format.md).
+  std::uint64_t floating = 0;
+  for (const EmbeddedAnchor& anchor : model_.embedded_anchors) {
+    const bool all_gone =
+        std::all_of(anchor.neighbours.begin(), anchor.neighbours.end(), [&](std::uint32_t n) {
+          return (state_.bodies[n].position - model_.initial_states[n].position).norm() >
+                 kAnchorLeftAlone_m;
+        });
+    if (all_gone) ++floating;
+  }
+  if (floating > 0)
+    warnings_.add("anchored_body_floating",
+                  "an anchored body (such as a window's frame in a wall) was left in the air: "
+                  "every movable body it was set into moved more than 5 cm away, and anchored "
+                  "bodies hold to the world, not to their neighbours",
+                  floating);
   std::vector<std::uint8_t> pending(model_.panels.size(), 0);
   for (std::size_t e = state_.next_event; e < model_.events.size(); ++e)
     pending[model_.events[e].panel] = !state_.panel_loaded[model_.events[e].panel];

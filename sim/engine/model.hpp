@@ -115,9 +115,10 @@ struct Timing {
   std::optional<double> time_step_s;  // fixed step; absent: adaptive from `tolerance`
   double tolerance = 1e-3;
   bool sleep = true;  // bodies at rest on the ground stop being integrated
-  // Spinning bodies turn in substeps of their own (WorldSettings::max_turn_per_substep_rad):
-  // the step no longer shrinks with the fastest angular speed.
-  bool spin_substeps = false;
+  // Bodies take substeps of their own where their spin (WorldSettings::max_turn_per_substep_rad)
+  // or their approach to the ground needs them: the step no longer shrinks with the fastest
+  // spinner or the fastest body near the ground.
+  bool body_substeps = false;
 };
 
 // Contacts between bodies (`simulation.collisions`).

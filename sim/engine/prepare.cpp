@@ -72,9 +72,9 @@ void prepare_world(const scene::Scene& scene, Model& model) {
   model.timing.time_step_s = sim.time_step_s;
   model.timing.tolerance = sim.tolerance;
   model.timing.sleep = sim.sleep;
-  model.timing.spin_substeps = sim.spin_substeps;
+  model.timing.body_substeps = sim.body_substeps;
   // The same turn per step as the adaptive step allows everyone (run.cpp, next_step).
-  if (sim.spin_substeps) model.world.max_turn_per_substep_rad = 2.0 * std::sqrt(sim.tolerance);
+  if (sim.body_substeps) model.world.max_turn_per_substep_rad = 2.0 * std::sqrt(sim.tolerance);
   model.collisions = sim.collisions == scene::CollisionMode::on    ? Collisions::on
                      : sim.collisions == scene::CollisionMode::off ? Collisions::off
                                                                    : Collisions::automatic;

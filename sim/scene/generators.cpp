@@ -64,8 +64,8 @@ struct Rect {
   double left, right, bottom, top;
 };
 
-// The parts of `piece` outside every opening from `first` on: beside an opening it keeps its full
-// height, below and above it the opening's width. Parts under the minimum size are dropped.
+// The parts of `piece` outside every opening from `first` on: below and above an opening it keeps
+// its full length, beside it the opening's height. Parts under the minimum size are dropped.
 void cut_around(const Rect& piece, const std::vector<WallOpening>& openings, std::size_t first,
                 double min_length, double min_height, std::vector<Rect>& parts) {
   for (std::size_t k = first; k < openings.size(); ++k) {
@@ -74,16 +74,20 @@ void cut_around(const Rect& piece, const std::vector<WallOpening>& openings, std
                     opening.centre_m[0] + 0.5 * opening.size_m[0],
                     opening.centre_m[1] - 0.5 * opening.size_m[1],
                     opening.centre_m[1] + 0.5 * opening.size_m[1]};
-    if (hole.left >= piece.right || hole.right <= piece.left || hole.bottom >= piece.top ||
-        hole.top <= piece.bottom)
+    // Overlaps of a nanometre are rounding (a hole on a course's edge), not a cut.
+    constexpr double kTouch_m = 1e-9;
+    if (hole.left >= piece.right - kTouch_m || hole.right <= piece.left + kTouch_m ||
+        hole.bottom >= piece.top - kTouch_m || hole.top <= piece.bottom + kTouch_m)
       continue;
-    const double inner_left = std::max(piece.left, hole.left);
-    const double inner_right = std::min(piece.right, hole.right);
+    // Below and above across the piece's length, so courses run on over and under a hole;
+    // beside it only in the hole's height.
+    const double inner_bottom = std::max(piece.bottom, hole.bottom);
+    const double inner_top = std::min(piece.top, hole.top);
     const Rect candidates[] = {
-        {piece.left, inner_left, piece.bottom, piece.top},  // beside, left
-        {inner_left, inner_right, piece.bottom, std::max(piece.bottom, hole.bottom)},  // below
-        {inner_left, inner_right, std::min(piece.top, hole.top), piece.top},           // above
-        {inner_right, piece.right, piece.bottom, piece.top},  // beside, right
+        {piece.left, piece.right, piece.bottom, inner_bottom},                      // below
+        {piece.left, std::max(piece.left, hole.left), inner_bottom, inner_top},     // left
+        {std::min(piece.right, hole.right), piece.right, inner_bottom, inner_top},  // right
+        {piece.left, piece.right, inner_top, piece.top},                            // above
     };
     for (const Rect& candidate : candidates) {
       if (candidate.right - candidate.left < min_length ||

@@ -67,9 +67,10 @@ struct BrickWallParams {
   double friction = 0.6;
   double mortar_gap_m = 0.0;  // empty joint between neighbouring bricks, m
   // Holes through the wall, inside its outline and not overlapping one another (checked by the
-  // parser). Every brick is cut around each opening: the parts of it beside, below and above the
-  // opening remain as boxes of the same depth and proportional mass; a part shorter than a
-  // quarter of a brick's length or lower than a quarter of its height is dropped (no slivers).
+  // parser). Every brick is cut around each opening: the parts of it below and above the opening
+  // (its whole length) and beside it (the opening's height) remain as boxes of the same depth and
+  // proportional mass; a part shorter than a quarter of a brick's length or lower than a quarter
+  // of its height is dropped (no slivers).
   std::vector<WallOpening> openings;
 };
 
@@ -86,8 +87,9 @@ std::uint64_t brick_wall_count(std::int64_t rows, std::int64_t columns);
 
 // The wall's bricks, row by row from the bottom, left (-x) to right within a row. Each brick is an
 // ObjectSpec with a box mesh, material "brick" and the given friction. With openings, a row's
-// bricks (and the parts left of cut bricks) are numbered left to right, bottom part before top
-// part; the bricks are followed by the windows of the openings, in opening order, named
+// bricks and the parts of cut bricks are numbered brick by brick from the left, a cut brick's
+// parts bottom, left, right, top; the bricks are followed by the windows of the openings, in
+// opening order, named
 // "<name>/opening<k>" (the window's own objects "<name>/opening<k>/pane" and
 // "<name>/opening<k>/frame/..."), centred in the opening in the wall's mid-plane (z = 0), turned
 // with the wall, their front face the wall's +z.

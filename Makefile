@@ -109,6 +109,7 @@ bench: build
 	$(BUILD_DIR)/release/bench/fracture_bench
 	$(BUILD_DIR)/release/bench/occlusion_bench
 	$(BUILD_DIR)/release/bench/response_bench
+	$(BUILD_DIR)/release/bench/facade_bench
 
 # The job service under load: POST, GET, fixed-rate and drain phases against a spawned server.
 load-bench: build

@@ -53,8 +53,13 @@ Eigen::Vector4d quaternion_rate(const Quat& q, const Vec3& omega) {
 // of dt W, so turning the body by C keeps the world angular momentum R P exactly (the
 // midpoint Lie-Poisson integrator; Austin, Krishnaprasad and Wang, J. Comput. Phys. 107, 1993).
 // M is found by Newton's method on F(M) = M - P0 - dt/2 M x W(M). Returns the angular velocity
-// turned with, world frame.
-Vec3 free_rotation(const BodyModel& model, const Mat3& rotation, BodyState& state, double dt) {
+// turned with, world frame. `cofactor_solve`: each Newton step solves with the Jacobian's
+// adjugate instead of a pivoted LU (a third of the work; the Jacobian is the identity plus a
+// term of order dt |W| <= 0.06, far from singular), and starts from an explicit estimate of the
+// midpoint. Used with body substeps only, so the
+// results of the one-turn-a-step path stay as they were, bit for bit.
+Vec3 free_rotation(const BodyModel& model, const Mat3& rotation, BodyState& state, double dt,
+                   bool cofactor_solve = false) {
   const Vec3 p0 = rotation.transpose().lazyProduct(state.angular_momentum);
   auto inverse_inertia = [&](const Vec3& p) {
     return model.diagonal_inertia ? Vec3(model.inverse_inertia_diagonal.cwiseProduct(p))
@@ -63,6 +68,11 @@ Vec3 free_rotation(const BodyModel& model, const Mat3& rotation, BodyState& stat
   const double h = 0.5 * dt;
   Vec3 m = p0;
   Vec3 w = inverse_inertia(m);
+  if (cofactor_solve) {
+    // Start Newton from the explicit estimate of the midpoint: one iteration fewer.
+    m = p0 + h * p0.cross(w);
+    w = inverse_inertia(m);
+  }
   const double scale = p0.squaredNorm();
   for (int iteration = 0; iteration < 12; ++iteration) {
     const Vec3 residual = m - p0 - h * m.cross(w);
@@ -74,7 +84,15 @@ Vec3 free_rotation(const BodyModel& model, const Mat3& rotation, BodyState& stat
     const Mat3 inverse = model.diagonal_inertia ? Mat3(model.inverse_inertia_diagonal.asDiagonal())
                                                 : model.inverse_inertia_body;
     const Mat3 jacobian = Mat3::Identity() - h * (cross_m * inverse - cross_w);
-    m -= jacobian.partialPivLu().solve(residual);
+    if (cofactor_solve) {
+      const Vec3 c0 = jacobian.col(1).cross(jacobian.col(2));
+      const Vec3 c1 = jacobian.col(2).cross(jacobian.col(0));
+      const Vec3 c2 = jacobian.col(0).cross(jacobian.col(1));
+      const double determinant = jacobian.col(0).dot(c0);
+      m -= Vec3(c0.dot(residual), c1.dot(residual), c2.dot(residual)) * (1.0 / determinant);
+    } else {
+      m -= jacobian.partialPivLu().solve(residual);
+    }
     w = inverse_inertia(m);
   }
   // The Cayley rotation of dt W is the unit quaternion along (1, dt W / 2), in the body frame.
@@ -84,6 +102,25 @@ Vec3 free_rotation(const BodyModel& model, const Mat3& rotation, BodyState& stat
   state.orientation = state.orientation * turn;
   state.orientation.coeffs() *= 1.0 / state.orientation.norm();  // one division, not four
   return rotation.lazyProduct(w);
+}
+
+// free_rotation in n equal substeps, n enough to keep each turn under the world's limit: a fast
+// spinner (a small glass fragment) turns accurately without shortening every body's step.
+Vec3 free_rotation_substeps(const BodyModel& model, const Mat3& rotation, BodyState& state,
+                            double dt, double max_turn_rad) {
+  const Vec3 local = rotation.transpose().lazyProduct(state.angular_momentum);
+  const Vec3 spin = model.diagonal_inertia
+                        ? Vec3(model.inverse_inertia_diagonal.cwiseProduct(local))
+                        : Vec3(model.inverse_inertia_body.lazyProduct(local));
+  // At most 10 000 substeps: beyond that a body spins at over 10^4 turns of the limit a step.
+  const double turns = std::min(std::ceil(spin.norm() * dt / max_turn_rad), 1e4);
+  if (!(turns > 1.0)) return free_rotation(model, rotation, state, dt, true);
+  const int substeps = static_cast<int>(turns);
+  const double h = dt / static_cast<double>(substeps);
+  Vec3 turned = free_rotation(model, rotation, state, h, true);
+  for (int k = 1; k < substeps; ++k)
+    turned = free_rotation(model, state.orientation.toRotationMatrix(), state, h, true);
+  return turned;
 }
 
 // Quadratic drag along the velocity, integrated exactly for straight-line motion:
@@ -133,7 +170,10 @@ Vec3 integrate_rotation(const BodyModel& model, const Mat3& start_rotation, Body
       // scheme before this one) drifted +5 % in energy in 1 s for a 1 mm plate tumbling at
       // 0.06 rad a step, +65 % in 10 s.
       state.angular_momentum += loads.angular_impulse;
-      turned = free_rotation(model, start_rotation, state, dt);
+      turned = world.max_turn_per_substep_rad > 0.0
+                   ? free_rotation_substeps(model, start_rotation, state, dt,
+                                            world.max_turn_per_substep_rad)
+                   : free_rotation(model, start_rotation, state, dt);
       break;
     }
     case Integrator::rk4: {

@@ -82,6 +82,10 @@ struct WorldSettings {
   double linear_damping_per_s = 0.0;
   double angular_damping_per_s = 0.0;
   Integrator integrator = Integrator::semi_implicit_euler;
+  // Semi-implicit Euler only: a body whose torque-free turn over a step exceeds this angle turns
+  // in as many equal substeps as keep each under it, rad; 0: one turn per step (the global step
+  // is then kept short enough for the fastest spinner).
+  double max_turn_per_substep_rad = 0.0;
 };
 
 // Sets inertia_body, its inverse and the diagonal fast path from a body-frame inertia tensor.

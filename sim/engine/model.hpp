@@ -115,10 +115,21 @@ struct Timing {
   std::optional<double> time_step_s;  // fixed step; absent: adaptive from `tolerance`
   double tolerance = 1e-3;
   bool sleep = true;  // bodies at rest on the ground stop being integrated
+  // Bodies take substeps of their own where their spin (WorldSettings::max_turn_per_substep_rad)
+  // or their approach to the ground needs them: the step no longer shrinks with the fastest
+  // spinner or the fastest body near the ground.
+  bool body_substeps = false;
 };
 
 // Contacts between bodies (`simulation.collisions`).
 enum class Collisions : std::uint8_t { automatic, on, off };
+
+// An anchored body off the ground that touches movable bodies (not fragments) at the start, and
+// those bodies.
+struct EmbeddedAnchor {
+  std::uint32_t body;
+  std::vector<std::uint32_t> neighbours;
+};
 
 // Everything that does not change while stepping (STYLE.md §1), per body in body order.
 struct Model {
@@ -133,6 +144,10 @@ struct Model {
   // The standing bodies each body rests on at the start (Footing::supports): with collisions on,
   // a held body whose supports have all been released is released too.
   std::vector<std::vector<std::uint32_t>> supports;
+  // Anchored bodies set into movable ones (a window's frame in a brick wall), with the movable
+  // bodies they touch at the start (embedded_anchors): if all of those are blown away, the
+  // anchored body is left floating, and the run says so.
+  std::vector<EmbeddedAnchor> embedded_anchors;
   // Fragments of broken panes (thesis §6.7): whether a body is one, and the earliest time it
   // may break free (the wave's arrival at its centroid; 0 for others).
   std::vector<std::uint8_t> fragment;
@@ -198,6 +213,11 @@ struct Footing {
 };
 Footing footing(const std::vector<BodySource>& sources, std::optional<double> ground_height_m);
 
+// The anchored bodies set into movable ones at the start (prepare_holds.cpp): within 5 mm of
+// them, boxes overlapping across the gap, and not standing on the ground themselves.
+std::vector<EmbeddedAnchor> embedded_anchors(const std::vector<BodySource>& sources,
+                                             std::optional<double> ground_height_m);
+
 // Widens each panel's clearing distance to the contiguous coplanar surface it lies in
 // (clearing_surfaces.cpp).
 void share_clearing_across_surfaces(const std::vector<BodySource>& sources, Model& model);
@@ -208,9 +228,10 @@ void share_clearing_across_surfaces(const std::vector<BodySource>& sources, Mode
 void prepare_shielding(const scene::SimulationSpec& simulation,
                        const std::vector<BodySource>& sources, Model& model, Stats& stats);
 
-// The read-only model; moves each source's mesh into `bodies` (the result's body list).
+// The read-only model; moves each source's mesh into `bodies` (the result's body list). The
+// shielding stage's wall-clock time goes to `shielding_wall_time_s`, s, if given.
 Model prepare(const scene::Scene& scene, std::vector<BodySource>& sources,
-              std::vector<BodyInfo>& bodies, Stats& stats);
+              std::vector<BodyInfo>& bodies, Stats& stats, double* shielding_wall_time_s = nullptr);
 
 // The pose of a body's shape origin from the state of its centre of mass.
 Pose origin_pose(const Model& model, std::size_t body, const dynamics::BodyState& state);

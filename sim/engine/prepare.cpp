@@ -2,6 +2,7 @@
 // settings, one body per source (mass properties, hull, drag shape, panels, hold, initial
 // motion), the charges, clearing distances, and the panel events in order of arrival.
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstddef>
 
@@ -71,6 +72,9 @@ void prepare_world(const scene::Scene& scene, Model& model) {
   model.timing.time_step_s = sim.time_step_s;
   model.timing.tolerance = sim.tolerance;
   model.timing.sleep = sim.sleep;
+  model.timing.body_substeps = sim.body_substeps;
+  // The same turn per step as the adaptive step allows everyone (run.cpp, next_step).
+  if (sim.body_substeps) model.world.max_turn_per_substep_rad = 2.0 * std::sqrt(sim.tolerance);
   model.collisions = sim.collisions == scene::CollisionMode::on    ? Collisions::on
                      : sim.collisions == scene::CollisionMode::off ? Collisions::off
                                                                    : Collisions::automatic;
@@ -177,13 +181,15 @@ void prepare_events(const std::vector<BodySource>& sources, Model& model, Stats&
 }  // namespace
 
 Model prepare(const scene::Scene& scene, std::vector<BodySource>& sources,
-              std::vector<BodyInfo>& bodies, Stats& stats) {
+              std::vector<BodyInfo>& bodies, Stats& stats, double* shielding_wall_time_s) {
   Model model;
   prepare_world(scene, model);
   const double gravity = scene.environment.gravity_m_s2.norm();
   const std::vector<double> normal_force = supported_weights(sources, gravity);
-  Footing feet = footing(
-      sources, model.ground ? std::optional(model.ground->height_m) : std::optional<double>());
+  const std::optional<double> ground_height_m =
+      model.ground ? std::optional(model.ground->height_m) : std::optional<double>();
+  Footing feet = footing(sources, ground_height_m);
+  model.embedded_anchors = embedded_anchors(sources, ground_height_m);
   for (std::size_t b = 0; b < sources.size(); ++b)
     prepare_body(sources[b], normal_force[b], feet.standing[b], gravity, model, stats);
   model.supports = std::move(feet.supports);
@@ -202,7 +208,11 @@ Model prepare(const scene::Scene& scene, std::vector<BodySource>& sources,
       if (model.fragment[model.panels[p].body]) model.panels[p].clearing_distance_m = own[p];
   }
 
+  const auto shielding_start = std::chrono::steady_clock::now();
   prepare_shielding(scene.simulation, sources, model, stats);
+  if (shielding_wall_time_s)
+    *shielding_wall_time_s =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - shielding_start).count();
   prepare_events(sources, model, stats);
 
   // The result's bodies, each with its mesh (moved out of its source: prepare is done with it).

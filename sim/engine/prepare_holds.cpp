@@ -112,4 +112,32 @@ Footing footing(const std::vector<BodySource>& sources, std::optional<double> gr
   return result;
 }
 
+std::vector<EmbeddedAnchor> embedded_anchors(const std::vector<BodySource>& sources,
+                                             std::optional<double> ground_height_m) {
+  std::vector<EmbeddedAnchor> anchors;
+  std::vector<std::size_t> anchored;
+  for (std::size_t b = 0; b < sources.size(); ++b)
+    if (sources[b].anchored) anchored.push_back(b);
+  if (anchored.empty()) return anchors;
+  std::vector<Box> boxes(sources.size());
+  for (std::size_t b = 0; b < sources.size(); ++b)
+    boxes[b] = world_box(sources[b]);
+  for (std::size_t a : anchored) {
+    const Box& box = boxes[a];
+    // Standing on the ground, it holds on to the ground whatever happens around it.
+    if (ground_height_m && box.min.y() <= *ground_height_m + kContactGap_m) continue;
+    EmbeddedAnchor anchor{static_cast<std::uint32_t>(a), {}};
+    for (std::size_t b = 0; b < sources.size(); ++b) {
+      if (sources[b].anchored || sources[b].fragment) continue;
+      const Box& other = boxes[b];
+      // Touching: the boxes, each grown by the 5 mm gap, overlap on every axis.
+      if (((box.min.array() - kContactGap_m) < other.max.array()).all() &&
+          ((other.min.array() - kContactGap_m) < box.max.array()).all())
+        anchor.neighbours.push_back(static_cast<std::uint32_t>(b));
+    }
+    if (!anchor.neighbours.empty()) anchors.push_back(std::move(anchor));
+  }
+  return anchors;
+}
+
 }  // namespace brisance::engine

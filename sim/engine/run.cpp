@@ -15,6 +15,9 @@ namespace {
 
 // A sum of finite numbers is finite unless it overflows (beyond 1e308: no state of a body),
 // and a NaN or an infinity in any term makes it NaN or infinite: one test instead of thirteen.
+// How far every body an anchored body was set into must have moved for it to be left alone, m.
+constexpr double kAnchorLeftAlone_m = 0.05;
+
 bool finite(const dynamics::BodyState& s) {
   return std::isfinite(s.position.sum() + s.velocity.sum() + s.orientation.coeffs().sum() +
                        s.angular_momentum.sum());
@@ -167,11 +170,24 @@ void Run::integrate_awake(double dt) {
     const dynamics::BodyState before = state;
     // Most bodies carry no load: their step does not read state_.loads (72 bytes a body).
     static const dynamics::StepLoads kNoLoads{};
-    const Vec3 omega = dynamics::integrate(
-        body, state, state_.is_loaded[b] ? state_.loads[b] : kNoLoads, model_.world, dt);
+    const dynamics::StepLoads& loads = state_.is_loaded[b] ? state_.loads[b] : kNoLoads;
+    const int substeps = model_.timing.body_substeps ? ground_substeps(body, state, dt) : 1;
+    Vec3 omega = Vec3::Zero();
     bool touching = false;
-    if (model_.ground)
-      touching = dynamics::resolve_ground_contact(body, state, *model_.ground, &state_.contacts[b]);
+    if (substeps == 1) {
+      omega = dynamics::integrate(body, state, loads, model_.world, dt);
+      if (model_.ground)
+        touching =
+            dynamics::resolve_ground_contact(body, state, *model_.ground, &state_.contacts[b]);
+    } else {
+      // The step's impulse acts in the first substep, as it acts at the start of a step.
+      const double h = dt / static_cast<double>(substeps);
+      for (int k = 0; k < substeps; ++k) {
+        omega = dynamics::integrate(body, state, k == 0 ? loads : kNoLoads, model_.world, h);
+        touching =
+            dynamics::resolve_ground_contact(body, state, *model_.ground, &state_.contacts[b]);
+      }
+    }
     // Resting on another body counts as resting (its contacts were found last step).
     if (!state_.touching_body.empty()) touching = touching || state_.touching_body[b];
     if (!finite(state)) {
@@ -220,6 +236,20 @@ void Run::integrate_awake(double dt) {
   state_.loaded_bodies.clear();
 }
 
+// With body_substeps: the substeps a body near the ground takes over dt, so that each lasts at
+// most the fraction of its ground-crossing time the global step keeps to without them.
+int Run::ground_substeps(const dynamics::BodyModel& body, const dynamics::BodyState& state,
+                         double dt) const {
+  if (!model_.ground) return 1;
+  const double speed = state.velocity.norm();
+  if (!(speed > 0.0)) return 1;
+  const double clearance = state.position.y() - body.bounding_radius_m - model_.ground->height_m;
+  if (clearance >= speed * 0.01) return 1;
+  const double longest = 10.0 * std::sqrt(model_.timing.tolerance) * body.bounding_radius_m / speed;
+  // At most 10 000 substeps (a body crossing its own size 30 000 times a step).
+  return static_cast<int>(std::clamp(std::ceil(dt / longest), 1.0, 1e4));
+}
+
 double Run::next_step(double t, double until) const {
   const Timing& sim = model_.timing;
   if (sim.time_step_s) return std::min(*sim.time_step_s, until - t);
@@ -239,9 +269,9 @@ double Run::next_step(double t, double until) const {
   double dt = std::min(1.0 / sim.frame_rate_hz, 0.3 * fraction);
   if (state_.min_active_duration_s < INFINITY)
     dt = std::min(dt, fraction * state_.min_active_duration_s);
-  if (state_.max_angular_speed_rad_s > 0.0)
+  if (state_.max_angular_speed_rad_s > 0.0 && !sim.body_substeps)
     dt = std::min(dt, 2.0 * fraction / state_.max_angular_speed_rad_s);
-  if (state_.min_contact_time_s < INFINITY)
+  if (state_.min_contact_time_s < INFINITY && !sim.body_substeps)
     dt = std::min(dt, 10.0 * fraction * state_.min_contact_time_s);
   if (state_.next_event < model_.events.size() && state_.active.empty()) {
     // Land the first step of a wave on its arrival.
@@ -395,6 +425,23 @@ void Run::finish() {
       if (model_.fragment[b]) ++result_.stats.fragments_held_by_frame;
     }
   }
+  // An anchored body (a window's frame) whose every neighbour was blown away floats in the air:
+  // anchors hold to the world, not to the bodies around them (docs/scene-format.md).
+  std::uint64_t floating = 0;
+  for (const EmbeddedAnchor& anchor : model_.embedded_anchors) {
+    const bool all_gone =
+        std::all_of(anchor.neighbours.begin(), anchor.neighbours.end(), [&](std::uint32_t n) {
+          return (state_.bodies[n].position - model_.initial_states[n].position).norm() >
+                 kAnchorLeftAlone_m;
+        });
+    if (all_gone) ++floating;
+  }
+  if (floating > 0)
+    warnings_.add("anchored_body_floating",
+                  "an anchored body (such as a window's frame in a wall) was left in the air: "
+                  "every movable body it was set into moved more than 5 cm away, and anchored "
+                  "bodies hold to the world, not to their neighbours",
+                  floating);
   std::vector<std::uint8_t> pending(model_.panels.size(), 0);
   for (std::size_t e = state_.next_event; e < model_.events.size(); ++e)
     pending[model_.events[e].panel] = !state_.panel_loaded[model_.events[e].panel];

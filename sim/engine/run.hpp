@@ -104,6 +104,8 @@ class Run {
   void init_collisions();
 
   void activate(const PanelEvent& event);
+  int ground_substeps(const dynamics::BodyModel& body, const dynamics::BodyState& state,
+                      double dt) const;
   double next_step(double t, double until) const;
   bool quiet() const;
   void record_frame();

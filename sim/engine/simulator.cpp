@@ -85,7 +85,12 @@ RunOutcome simulate(const scene::Scene& scene, const RunHooks& hooks) {
   Result& result = outcome.result;
   WarningLog warnings;
   // Every body to create, breakable panes broken into their fragments (DESIGN.md decision 9).
+  using Clock = std::chrono::steady_clock;
+  const auto seconds_since = [](Clock::time_point from) {
+    return std::chrono::duration<double>(Clock::now() - from).count();
+  };
   BodySources sources = body_sources(scene);
+  outcome.times.fracture_s = seconds_since(start);
   for (const auto& [code, message] : sources.warnings)
     warnings.add(code, message);
   result.fracture = std::move(sources.reports);
@@ -97,7 +102,10 @@ RunOutcome simulate(const scene::Scene& scene, const RunHooks& hooks) {
       ++result.stats.panes_not_broken;
     }
   }
-  const Model model = prepare(scene, sources.bodies, result.bodies, result.stats);
+  const auto prepare_start = Clock::now();
+  const Model model =
+      prepare(scene, sources.bodies, result.bodies, result.stats, &outcome.times.shielding_s);
+  outcome.times.prepare_s = seconds_since(prepare_start) - outcome.times.shielding_s;
   result.stats.bodies = model.bodies.size();
   if (!model.body_shielding.empty()) {
     const std::size_t bodies = model.bodies.size();
@@ -111,8 +119,10 @@ RunOutcome simulate(const scene::Scene& scene, const RunHooks& hooks) {
     }
   }
 
+  const auto stepping_start = Clock::now();
   Run run(model, result, warnings);
   outcome.cancelled = !run.execute(hooks);
+  outcome.times.stepping_s = seconds_since(stepping_start);
   if (!outcome.cancelled) report_fragments(sources.bodies, run.state(), result.fracture);
   result.warnings = warnings.list();
   result.stats.wall_time_s =

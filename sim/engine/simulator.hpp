@@ -17,9 +17,19 @@ struct RunHooks {
   std::function<bool()> cancel_requested;
 };
 
+// Wall-clock time of each stage of a run, s: what a benchmark breaks the run down by. Kept out of
+// the Result, whose contents depend on the scene alone.
+struct StageTimes {
+  double fracture_s = 0.0;   // body sources: breaking the panes into fragments
+  double prepare_s = 0.0;    // bodies, panels, holds, clearing, events (shielding apart)
+  double shielding_s = 0.0;  // the occlusion pass (thesis ch. 4)
+  double stepping_s = 0.0;   // the stepping loop and the frames
+};
+
 struct RunOutcome {
   Result result;  // complete unless cancelled
   bool cancelled = false;
+  StageTimes times;
 };
 
 RunOutcome simulate(const scene::Scene& scene, const RunHooks& hooks = {});

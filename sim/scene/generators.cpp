@@ -1,5 +1,6 @@
 #include "sim/scene/generators.hpp"
 
+#include <algorithm>
 #include <cassert>
 #include <limits>
 #include <string>
@@ -48,40 +49,125 @@ std::uint64_t brick_wall_count(std::int64_t rows, std::int64_t columns) {
   return saturating_add(saturating_mul(even_rows, c), saturating_mul(odd_rows, c + 1));
 }
 
+std::array<double, 2> brick_wall_extent(const BrickWallParams& params) {
+  const auto columns = static_cast<double>(params.columns);
+  const auto rows = static_cast<double>(params.rows);
+  const double gap = params.mortar_gap_m;
+  return {columns * params.brick_size_m.x() + (columns - 1.0) * gap,
+          rows * params.brick_size_m.y() + (rows - 1.0) * gap};
+}
+
+namespace {
+
+// A rectangle in the wall's x-y plane: a brick or a part of one, m.
+struct Rect {
+  double left, right, bottom, top;
+};
+
+// The parts of `piece` outside every opening from `first` on: below and above an opening it keeps
+// its full length, beside it the opening's height. Parts under the minimum size are dropped.
+void cut_around(const Rect& piece, const std::vector<WallOpening>& openings, std::size_t first,
+                double min_length, double min_height, std::vector<Rect>& parts) {
+  for (std::size_t k = first; k < openings.size(); ++k) {
+    const WallOpening& opening = openings[k];
+    const Rect hole{opening.centre_m[0] - 0.5 * opening.size_m[0],
+                    opening.centre_m[0] + 0.5 * opening.size_m[0],
+                    opening.centre_m[1] - 0.5 * opening.size_m[1],
+                    opening.centre_m[1] + 0.5 * opening.size_m[1]};
+    // Overlaps of a nanometre are rounding (a hole on a course's edge), not a cut.
+    constexpr double kTouch_m = 1e-9;
+    if (hole.left >= piece.right - kTouch_m || hole.right <= piece.left + kTouch_m ||
+        hole.bottom >= piece.top - kTouch_m || hole.top <= piece.bottom + kTouch_m)
+      continue;
+    // Below and above across the piece's length, so courses run on over and under a hole;
+    // beside it only in the hole's height.
+    const double inner_bottom = std::max(piece.bottom, hole.bottom);
+    const double inner_top = std::min(piece.top, hole.top);
+    const Rect candidates[] = {
+        {piece.left, piece.right, piece.bottom, inner_bottom},                      // below
+        {piece.left, std::max(piece.left, hole.left), inner_bottom, inner_top},     // left
+        {std::min(piece.right, hole.right), piece.right, inner_bottom, inner_top},  // right
+        {piece.left, piece.right, inner_top, piece.top},                            // above
+    };
+    for (const Rect& candidate : candidates) {
+      if (candidate.right - candidate.left < min_length ||
+          candidate.top - candidate.bottom < min_height)
+        continue;
+      cut_around(candidate, openings, k + 1, min_length, min_height, parts);
+    }
+    return;
+  }
+  parts.push_back(piece);
+}
+
+}  // namespace
+
 std::vector<ObjectSpec> brick_wall(const BrickWallParams& params) {
   assert(params.rows >= 1 && params.columns >= 1);
   const double length = params.brick_size_m.x();
   const double height = params.brick_size_m.y();
   const double depth = params.brick_size_m.z();
   const double gap = params.mortar_gap_m;
-  const auto columns = static_cast<double>(params.columns);
-  // An even row: columns bricks and columns - 1 joints.
-  const double width = columns * length + (columns - 1.0) * gap;
+  const double width = brick_wall_extent(params)[0];
   // An odd row has one piece and one joint more than an even row; equal widths need half bricks
   // of (length - gap) / 2, which puts every odd-row joint over the middle of a brick below.
   const double half_length = 0.5 * (length - gap);
-  const Vec3 full_size(length, height, depth);
-  const Vec3 half_size(half_length, height, depth);
+  const double full_area = length * height;
+  const double min_length = kMinBrickPartFraction * length;
+  const double min_height = kMinBrickPartFraction * height;
 
   std::vector<ObjectSpec> bricks;
   bricks.reserve(brick_wall_count(params.rows, params.columns));
+  std::vector<Rect> parts;
   for (std::int64_t row = 0; row < params.rows; ++row) {
-    const double y = static_cast<double>(row) * (height + gap) + 0.5 * height;
+    const double bottom = static_cast<double>(row) * (height + gap);
     const bool odd = row % 2 == 1;
     const std::int64_t pieces = odd ? params.columns + 1 : params.columns;
     double left = -0.5 * width;  // left end of the next piece, wall frame
+    std::int64_t number = 0;     // of the next brick or part in the row
     for (std::int64_t index = 0; index < pieces; ++index) {
       const bool half = odd && (index == 0 || index == pieces - 1);
       const double piece_length = half ? half_length : length;
-      const Vec3 centre(left + 0.5 * piece_length, y, 0.0);
-      ObjectSpec brick = make_box_object(
-          params.name + "/r" + std::to_string(row) + "/b" + std::to_string(index),
-          half ? half_size : full_size, centre, params.position, params.orientation,
-          half ? 0.5 * params.brick_mass_kg : params.brick_mass_kg, params.friction);
-      brick.material = "brick";
-      bricks.push_back(std::move(brick));
+      const double piece_mass = half ? 0.5 * params.brick_mass_kg : params.brick_mass_kg;
+      parts.clear();
+      cut_around(Rect{left, left + piece_length, bottom, bottom + height}, params.openings, 0,
+                 min_length, min_height, parts);
+      const bool whole = parts.size() == 1 && parts[0].left == left &&
+                         parts[0].right == left + piece_length && parts[0].top == bottom + height &&
+                         parts[0].bottom == bottom;
+      for (const Rect& part : parts) {
+        // An uncut brick keeps the arithmetic of a wall without openings, bit for bit.
+        const Vec3 size = whole ? Vec3(piece_length, height, depth)
+                                : Vec3(part.right - part.left, part.top - part.bottom, depth);
+        const Vec3 centre =
+            whole ? Vec3(left + 0.5 * piece_length, bottom + 0.5 * height, 0.0)
+                  : Vec3(0.5 * (part.left + part.right), 0.5 * (part.bottom + part.top), 0.0);
+        // A cut part has its share of the brick's mass, by area.
+        const double mass =
+            whole ? piece_mass : params.brick_mass_kg * (size.x() * size.y()) / full_area;
+        ObjectSpec brick = make_box_object(
+            params.name + "/r" + std::to_string(row) + "/b" + std::to_string(number++), size,
+            centre, params.position, params.orientation, mass, params.friction);
+        brick.material = "brick";
+        bricks.push_back(std::move(brick));
+      }
       left += piece_length + gap;
     }
+  }
+  for (std::size_t k = 0; k < params.openings.size(); ++k) {
+    const WallOpening& opening = params.openings[k];
+    if (!opening.window) continue;
+    WindowParams window_params = *opening.window;
+    window_params.name = params.name + "/opening" + std::to_string(k);
+    const Vec3 centre(opening.centre_m[0], opening.centre_m[1], 0.0);
+    window_params.position = params.position + params.orientation * centre;
+    window_params.orientation = params.orientation;
+    // The frame lies outside the pane: its outer edges meet the opening's.
+    const double frame = window_params.frame ? window_params.frame_width_m : 0.0;
+    window_params.width_m = opening.size_m[0] - 2.0 * frame;
+    window_params.height_m = opening.size_m[1] - 2.0 * frame;
+    for (ObjectSpec& object : window(window_params))
+      bricks.push_back(std::move(object));
   }
   return bricks;
 }

@@ -144,7 +144,7 @@ SimulationSpec parse_simulation(const json& value, const std::string& pointer, c
       value, pointer, errors, "'simulation'",
       {"duration", "frame_rate", "time_step", "tolerance", "seed", "clearing", "occlusion",
        "shielding", "integrator", "pulse", "max_panel_area", "linear_damping", "angular_damping",
-       "rotation_factor", "sleep", "collisions"});
+       "rotation_factor", "sleep", "collisions", "body_substeps"});
   simulation.duration_s =
       fields.number("duration", simulation.duration_s,
                     range(0.0, true, limits.max_duration_s, false, "s", "max_duration_s"));
@@ -192,6 +192,17 @@ SimulationSpec parse_simulation(const json& value, const std::string& pointer, c
   simulation.rotation_factor =
       fields.number("rotation_factor", simulation.rotation_factor, non_negative());
   simulation.sleep = fields.boolean("sleep", simulation.sleep);
+  simulation.body_substeps = fields.boolean("body_substeps", simulation.body_substeps);
+  if (simulation.body_substeps && simulation.integrator != Integrator::semi_implicit_euler) {
+    errors.add(fields.at("body_substeps"),
+               "'body_substeps' needs the \"semi_implicit_euler\" integrator (the only one that "
+               "turns a body by its own rule); remove it or change 'integrator'");
+  }
+  if (simulation.body_substeps && simulation.collisions != CollisionMode::off) {
+    errors.add(fields.at("body_substeps"),
+               "'body_substeps' needs \"collisions\": \"off\" (contacts between bodies are "
+               "solved once a step, for every body at once); remove one of them");
+  }
   return simulation;
 }
 

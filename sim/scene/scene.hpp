@@ -144,6 +144,10 @@ struct SimulationSpec {
   double angular_damping = 0.0;     // per second
   double rotation_factor = 1.0;     // scales blast torques (thesis §6.5)
   bool sleep = true;                // bodies at rest on the ground stop being integrated
+  // Each body takes substeps of its own where its spin (at most 2 sqrt(tolerance) rad a substep)
+  // or its approach to the ground needs them, instead of shortening every body's step;
+  // semi-implicit Euler and collisions off only.
+  bool body_substeps = false;
 };
 
 struct Scene {

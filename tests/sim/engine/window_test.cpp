@@ -314,5 +314,45 @@ TEST(WindowScenes, OverdampedWindowBarelyMoves) {
   EXPECT_LT(mean_travel(overdamped), 0.05 * mean_travel(normal));
 }
 
+// A window in a wall's opening: its anchored frame holds to the world, so when the wall around
+// it is blown away the run must say that the frame was left in the air.
+scene::Scene wall_with_window(double charge_kg, double charge_z_m, double brick_mass_kg) {
+  const std::string text = R"({
+    "charges": [{"position": [0, 0.6, )" +
+                           std::to_string(charge_z_m) + R"(], "mass": )" +
+                           std::to_string(charge_kg) + R"(}],
+    "generators": [{"type": "brick_wall", "name": "wall", "rows": 8, "columns": 6,
+                    "brick_size": [0.4, 0.15, 0.1], "brick_mass": )" +
+                           std::to_string(brick_mass_kg) + R"(,
+                    "openings": [{"position": [0, 0.6], "size": [0.8, 0.6],
+                                  "window": {"fracture": {"growth_length": 0.3}}}]}],
+    "simulation": {"duration": 0.3, "body_substeps": true}
+  })";
+  const scene::ParseResult parsed = scene::parse_scene_text(text);
+  EXPECT_TRUE(parsed.scene.has_value());
+  return parsed.scene.value_or(scene::Scene{});
+}
+
+std::uint64_t floating_count(const Result& result) {
+  for (const Warning& warning : result.warnings)
+    if (warning.code == "anchored_body_floating") return warning.count;
+  return 0;
+}
+
+TEST(WindowInAWall, AFrameLeftInTheAirIsReported) {
+  // 20 kg of TNT 3 m in front: the wall goes, the frame's four bars stay where they were.
+  const Result blown = simulate(wall_with_window(20.0, 3.0, 10.0)).result;
+  EXPECT_EQ(floating_count(blown), 4u);
+  for (const FinalState& body : blown.final_state) {
+    if (body.name == "wall/opening0/frame/bottom") {
+      EXPECT_NEAR(body.pose.position[1], 0.325, 1e-12);  // anchored: not moved
+    }
+  }
+  // 20 g 10 m away against 200 kg bricks: nothing moves, nothing floats.
+  const Result standing = simulate(wall_with_window(0.02, 10.0, 200.0)).result;
+  EXPECT_EQ(floating_count(standing), 0u);
+  EXPECT_TRUE(standing.animated.empty());
+}
+
 }  // namespace
 }  // namespace brisance::engine

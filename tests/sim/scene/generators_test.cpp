@@ -244,6 +244,231 @@ TEST(BrickWall, JsonDefaults) {
   EXPECT_NEAR(lowest_y(scene.objects.front()), 0.0, 1e-12);
 }
 
+// ---------------------------------------------------------------------------------------------
+// Openings in a brick wall
+
+// The thesis wall (6 rows x 5 columns of 0.4 x 0.15 x 0.1 m bricks, 2.0 x 0.9 m) with openings.
+BrickWallParams thesis_wall(std::vector<WallOpening> openings) {
+  BrickWallParams wall;
+  wall.name = "wall";
+  wall.rows = 6;
+  wall.columns = 5;
+  wall.brick_size_m = Vec3(0.4, 0.15, 0.1);
+  wall.brick_mass_kg = 10.0;
+  wall.openings = std::move(openings);
+  return wall;
+}
+
+WallOpening hole(double x, double y, double width, double height) {
+  WallOpening opening;
+  opening.centre_m = {x, y};
+  opening.size_m = {width, height};
+  return opening;
+}
+
+// How many bricks cover the point (x, y) of the wall's frame (the wall stands at the origin).
+int bricks_covering(const std::vector<ObjectSpec>& bricks, double x, double y) {
+  int count = 0;
+  for (const ObjectSpec& brick : bricks) {
+    if (std::abs(x - brick.position.x()) < 0.5 * brick.box_size_m.x() &&
+        std::abs(y - brick.position.y()) < 0.5 * brick.box_size_m.y())
+      ++count;
+  }
+  return count;
+}
+
+double total_mass(const std::vector<ObjectSpec>& objects) {
+  double mass = 0.0;
+  for (const ObjectSpec& object : objects)
+    mass += object.mass_kg;
+  return mass;
+}
+
+TEST(BrickWallOpenings, ABrickSizedHoleDropsExactlyThatBrick) {
+  // Row 2 (even) holds five full bricks; its middle one spans x -0.2..0.2, y 0.3..0.45.
+  const auto bricks = brick_wall(thesis_wall({hole(0.0, 0.375, 0.4, 0.15)}));
+  EXPECT_EQ(bricks.size(), brick_wall_count(6, 5) - 1);
+  EXPECT_NEAR(total_mass(bricks), 300.0 - 10.0, 1e-9);
+  EXPECT_EQ(bricks_covering(bricks, 0.0, 0.375), 0);
+  // The row's remaining bricks are numbered on, left to right.
+  std::set<std::string> names;
+  for (const ObjectSpec& brick : bricks)
+    names.insert(brick.name);
+  EXPECT_TRUE(names.count("wall/r2/b3"));
+  EXPECT_FALSE(names.count("wall/r2/b4"));
+}
+
+TEST(BrickWallOpenings, NeighboursAreShortenedToTheEdgeWithTheirShareOfMass) {
+  // 0.5 m wide: the middle brick goes, each neighbour loses 0.05 of its 0.4 m (1.25 kg).
+  const auto bricks = brick_wall(thesis_wall({hole(0.0, 0.375, 0.5, 0.15)}));
+  EXPECT_EQ(bricks.size(), brick_wall_count(6, 5) - 1);
+  EXPECT_NEAR(total_mass(bricks), 300.0 - 10.0 - 2.0 * 1.25, 1e-9);
+  int shortened = 0;
+  for (const ObjectSpec& brick : bricks) {
+    if (std::abs(brick.box_size_m.x() - 0.35) < 1e-12) {
+      ++shortened;
+      EXPECT_NEAR(brick.mass_kg, 8.75, 1e-12);
+      EXPECT_NEAR(std::abs(brick.position.x()) - 0.175, 0.25, 1e-12);  // its inner end at 0.25
+    }
+  }
+  EXPECT_EQ(shortened, 2);
+}
+
+TEST(BrickWallOpenings, NoBrickOverlapsAHoleAndTheRestOfTheWallIsCovered) {
+  // Two holes off the brick grid, touching each other: bricks are cut across courses.
+  const std::vector<WallOpening> openings = {hole(-0.35, 0.42, 0.62, 0.41),
+                                             hole(0.31, 0.5, 0.7, 0.5)};
+  BrickWallParams wall = thesis_wall(openings);
+  wall.rows = 12;  // 4.0 x 1.8 m: room around the holes
+  wall.columns = 10;
+  const auto bricks = brick_wall(wall);
+  for (const ObjectSpec& brick : bricks) {
+    for (const WallOpening& opening : openings) {
+      const double dx = 0.5 * (brick.box_size_m.x() + opening.size_m[0]) -
+                        std::abs(brick.position.x() - opening.centre_m[0]);
+      const double dy = 0.5 * (brick.box_size_m.y() + opening.size_m[1]) -
+                        std::abs(brick.position.y() - opening.centre_m[1]);
+      EXPECT_FALSE(dx > 1e-12 && dy > 1e-12) << brick.name << " overlaps an opening";
+    }
+    // No slivers.
+    EXPECT_GE(brick.box_size_m.x(), kMinBrickPartFraction * 0.4 - 1e-12) << brick.name;
+    EXPECT_GE(brick.box_size_m.y(), kMinBrickPartFraction * 0.15 - 1e-12) << brick.name;
+  }
+  // Every point of the wall farther from the holes than a brick (where dropped slivers may leave
+  // gaps) is covered exactly once.
+  int sampled = 0;
+  for (double x = -1.995; x < 2.0; x += 0.01) {
+    for (double y = 0.005; y < 1.8; y += 0.01) {
+      bool near_a_hole = false;
+      for (const WallOpening& opening : openings) {
+        near_a_hole =
+            near_a_hole || (std::abs(x - opening.centre_m[0]) < 0.5 * opening.size_m[0] + 0.4 &&
+                            std::abs(y - opening.centre_m[1]) < 0.5 * opening.size_m[1] + 0.15);
+      }
+      if (!near_a_hole) {
+        EXPECT_EQ(bricks_covering(bricks, x, y), 1) << x << ", " << y;
+        ++sampled;
+      }
+    }
+  }
+  EXPECT_GT(sampled, 40000);
+}
+
+// A scene with the thesis wall at [3, 0, 2], turned a quarter about y, with the given openings.
+json wall_with_openings(const json& openings) {
+  json doc = minimal_scene();
+  json g = brick_wall_generator();
+  g["position"] = {3, 0, 2};
+  g["orientation"] = {0, std::sin(std::numbers::pi / 4), 0, std::cos(std::numbers::pi / 4)};
+  g["openings"] = openings;
+  doc["generators"] = {g};
+  return doc;
+}
+
+TEST(BrickWallOpenings, AWindowSitsInItsOpeningWithASheltheredBack) {
+  const Scene scene = parse_ok(wall_with_openings(json::parse(R"([
+      {"position": [0.2, 0.45], "size": [0.8, 0.5],
+       "window": {"thickness": 0.005, "frame_width": 0.06}}])")));
+  const Quat turn(Eigen::AngleAxisd(std::numbers::pi / 2, Vec3::UnitY()));
+  const Vec3 origin(3, 0, 2);
+  std::map<std::string, const ObjectSpec*> by_name;
+  for (const ObjectSpec& object : scene.objects)
+    by_name[object.name] = &object;
+  ASSERT_TRUE(by_name.count("wall/opening0/pane"));
+  const ObjectSpec& pane = *by_name["wall/opening0/pane"];
+  EXPECT_TRUE((pane.position - (origin + turn * Vec3(0.2, 0.45, 0.0))).norm() < 1e-12);
+  EXPECT_TRUE(pane.orientation.isApprox(turn, 1e-12));
+  // The frame lies outside the pane, inside the opening.
+  EXPECT_NEAR(pane.box_size_m.x(), 0.8 - 2 * 0.06, 1e-12);
+  EXPECT_NEAR(pane.box_size_m.y(), 0.5 - 2 * 0.06, 1e-12);
+  EXPECT_NEAR(pane.box_size_m.z(), 0.005, 1e-12);
+  EXPECT_EQ(pane.sheltered, kShelteredBack);
+  ASSERT_TRUE(pane.fracture.has_value());
+  EXPECT_TRUE(pane.fracture->framed);
+  // The frame's outer edges are the opening's, in the wall's frame.
+  double left = INFINITY, right = -INFINITY, bottom = INFINITY, top = -INFINITY;
+  for (const char* bar : {"bottom", "top", "left", "right"}) {
+    const std::string name = std::string("wall/opening0/frame/") + bar;
+    ASSERT_TRUE(by_name.count(name)) << name;
+    const ObjectSpec& frame = *by_name[name];
+    EXPECT_TRUE(frame.anchored);
+    const Vec3 local = turn.inverse() * (frame.position - origin);
+    left = std::min(left, local.x() - 0.5 * frame.box_size_m.x());
+    right = std::max(right, local.x() + 0.5 * frame.box_size_m.x());
+    bottom = std::min(bottom, local.y() - 0.5 * frame.box_size_m.y());
+    top = std::max(top, local.y() + 0.5 * frame.box_size_m.y());
+  }
+  EXPECT_NEAR(left, -0.2, 1e-12);
+  EXPECT_NEAR(right, 0.6, 1e-12);
+  EXPECT_NEAR(bottom, 0.2, 1e-12);
+  EXPECT_NEAR(top, 0.7, 1e-12);
+  // No brick overlaps the window (checked in the wall's frame).
+  for (const ObjectSpec& object : scene.objects) {
+    if (object.name.find("/opening") != std::string::npos) continue;
+    const Vec3 local = turn.inverse() * (object.position - origin);
+    EXPECT_FALSE(std::abs(local.x() - 0.2) < 0.5 * (object.box_size_m.x() + 0.8) - 1e-9 &&
+                 std::abs(local.y() - 0.45) < 0.5 * (object.box_size_m.y() + 0.5) - 1e-9)
+        << object.name;
+  }
+}
+
+TEST(BrickWallOpenings, AnEmptyOpeningHasNoWindowAndNoFrameTheOpeningHasNoFrame) {
+  const Scene empty = parse_ok(wall_with_openings(json::parse(R"([
+      {"position": [0, 0.45], "size": [0.8, 0.3]}])")));
+  for (const ObjectSpec& object : empty.objects)
+    EXPECT_EQ(object.name.find("opening"), std::string::npos) << object.name;
+  const Scene frameless = parse_ok(wall_with_openings(json::parse(R"([
+      {"position": [0, 0.45], "size": [0.8, 0.3], "window": {"frame": false}}])")));
+  int windows = 0;
+  for (const ObjectSpec& object : frameless.objects) {
+    if (object.name.find("opening") == std::string::npos) continue;
+    ++windows;
+    EXPECT_EQ(object.name, "wall/opening0/pane");
+    EXPECT_NEAR(object.box_size_m.x(), 0.8, 1e-12);  // the whole opening
+  }
+  EXPECT_EQ(windows, 1);
+}
+
+TEST(BrickWallOpenings, BadOpeningsAreErrorsWithPointers) {
+  const std::pair<const char*, const char*> cases[] = {
+      {"/generators/0/openings", R"({"position": [0, 0.4], "size": [0.5, 0.3]})"},
+      {"/generators/0/openings/0", R"([5])"},
+      {"/generators/0/openings/0/size", R"([{"position": [0, 0.4]}])"},
+      {"/generators/0/openings/0/size/0", R"([{"position": [0, 0.4], "size": [0, 0.3]}])"},
+      {"/generators/0/openings/0/position", R"([{"position": [0], "size": [0.5, 0.3]}])"},
+      {"/generators/0/openings/0/door", R"([{"position": [0, 0.4], "size": [0.5, 0.3],
+                                             "door": true}])"},
+      // Outside the wall's outline (x -1..1, y 0..0.9): past an end, above, below.
+      {"/generators/0/openings/0/position", R"([{"position": [0.9, 0.4], "size": [0.5, 0.3]}])"},
+      {"/generators/0/openings/0/position", R"([{"position": [0, 0.8], "size": [0.5, 0.3]}])"},
+      {"/generators/0/openings/0/position", R"([{"position": [0, 0.1], "size": [0.5, 0.3]}])"},
+      {"/generators/0/openings/1", R"([{"position": [-0.3, 0.4], "size": [0.5, 0.3]},
+                                       {"position": [0.1, 0.5], "size": [0.5, 0.3]}])"},
+      {"/generators/0/openings/0/window/frame_width",
+       R"([{"position": [0, 0.4], "size": [0.5, 0.3], "window": {"frame_width": 0.15}}])"},
+      {"/generators/0/openings/0/window/material",
+       R"([{"position": [0, 0.4], "size": [0.5, 0.3], "window": {"material": "brick"}}])"},
+      {"/generators/0/openings/0/window/name",
+       R"([{"position": [0, 0.4], "size": [0.5, 0.3], "window": {"name": "w"}}])"},
+      {"/generators/0/openings/0/window/size",
+       R"([{"position": [0, 0.4], "size": [0.5, 0.3], "window": {"size": [0.4, 0.2]}}])"},
+      {"/generators/0/openings/0/window/thickness",
+       R"([{"position": [0, 0.4], "size": [0.5, 0.3], "window": {"thickness": 0.3}}])"},
+      {"/generators/0/openings/0/window/frame_depth",
+       R"([{"position": [0, 0.4], "size": [0.5, 0.3],
+            "window": {"thickness": 0.05, "frame_depth": 0.01}}])"},
+  };
+  for (const auto& [pointer, openings] : cases) {
+    SCOPED_TRACE(openings);
+    single_error(wall_with_openings(json::parse(openings)), pointer);
+  }
+  // Touching openings, and one flush with the wall's ends and base (a door), are fine.
+  parse_ok(wall_with_openings(json::parse(R"([
+      {"position": [-0.75, 0.3], "size": [0.5, 0.6]},
+      {"position": [-0.25, 0.45], "size": [0.5, 0.3]},
+      {"position": [0.75, 0.45], "size": [0.5, 0.9]}])")));
+}
+
 TEST(Blocks, JsonDefaults) {
   json doc = minimal_scene();
   doc["objects"] = json::array();

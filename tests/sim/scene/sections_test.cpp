@@ -292,5 +292,18 @@ TEST(SceneSimulation, SeedTakesTheWholeUnsignedRange) {
   EXPECT_EQ(result.scene->simulation.seed, 18446744073709551615u);
 }
 
+TEST(SceneSimulation, BodySubstepsNeedSemiImplicitEulerAndNoCollisions) {
+  json doc = minimal_scene();
+  EXPECT_FALSE(parse_ok(doc).simulation.body_substeps);
+  doc["simulation"] = {{"body_substeps", true}};
+  EXPECT_TRUE(parse_ok(doc).simulation.body_substeps);
+  doc["simulation"] = {{"body_substeps", true}, {"integrator", "rk4"}};
+  EXPECT_TRUE(contains(single_error(doc, "/simulation/body_substeps"), "semi_implicit_euler"));
+  doc["simulation"] = {{"body_substeps", true}, {"collisions", "auto"}};
+  EXPECT_TRUE(contains(single_error(doc, "/simulation/body_substeps"), "collisions"));
+  doc["simulation"] = {{"body_substeps", 1}};
+  single_error(doc, "/simulation/body_substeps");
+}
+
 }  // namespace
 }  // namespace brisance::scene

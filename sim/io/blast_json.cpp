@@ -8,27 +8,10 @@
 #include <numbers>
 
 #include "sim/blast/explosives.hpp"
+#include "sim/io/number_text.hpp"
 
 namespace brisance::io {
-namespace {
-
-// A finite number, or nullopt (the caller reports it).
-std::optional<double> to_number(std::string_view text) {
-  double value = 0.0;
-  const auto [ptr, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
-  if (text.empty() || ec != std::errc() || ptr != text.data() + text.size() ||
-      !std::isfinite(value))
-    return std::nullopt;
-  return value;
-}
-
-std::string shown(double value) {
-  char buffer[32];
-  const auto [end, ec] = std::to_chars(buffer, buffer + sizeof buffer, value);
-  return ec == std::errc() ? std::string(buffer, end) : std::string("?");
-}
-
-}  // namespace
+namespace {}  // namespace
 
 std::vector<BlastQueryError> parse_blast_query(
     const std::function<std::optional<std::string>(std::string_view name)>& lookup,

@@ -6,6 +6,7 @@
 #include <numbers>
 
 #include "sim/blast/pulse.hpp"
+#include "sim/io/number_text.hpp"
 #include "sim/response/limits.hpp"
 
 namespace brisance::io {
@@ -17,21 +18,6 @@ constexpr double kDefaultFriedlanderDecay = 1.0;
 // B4 bounds (mu 25, theta 20 deg) with room to spare, and they keep each bisection's runs short.
 constexpr double kMaxPiDuctility = 100.0;
 constexpr double kMaxPiRotationDeg = 45.0;
-
-std::optional<double> to_number(std::string_view text) {
-  double value = 0.0;
-  const auto [ptr, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
-  if (text.empty() || ec != std::errc() || ptr != text.data() + text.size() ||
-      !std::isfinite(value))
-    return std::nullopt;
-  return value;
-}
-
-std::string shown(double value) {
-  char buffer[32];
-  const auto [end, ec] = std::to_chars(buffer, buffer + sizeof buffer, value);
-  return ec == std::errc() ? std::string(buffer, end) : std::string("?");
-}
 
 nlohmann::ordered_json or_null(const std::optional<double>& value) {
   return value ? nlohmann::ordered_json(*value) : nlohmann::ordered_json(nullptr);

@@ -2003,6 +2003,34 @@ export interface components {
              * @default 0
              */
             mortar_gap?: number;
+            /**
+             * @description Holes through the wall, inside its outline, not overlapping each other (they may touch). Bricks are cut around each; parts under a quarter of a brick's length or height are dropped. A window in an opening is `<name>/opening<k>`.
+             * @default []
+             */
+            openings?: components["schemas"]["WallOpening"][];
+        };
+        WallOpening: {
+            /** @description [x, y] of the opening's centre in the wall's frame (x from its centre line, y up from its base), m. */
+            position: [
+                number,
+                number
+            ];
+            /** @description [width, height] of the opening, m. */
+            size: [
+                number,
+                number
+            ];
+            window?: components["schemas"]["OpeningWindow"];
+        };
+        /** @description A window generator's fields but those the opening sets (type, name, position, orientation, size): the frame's outer edges lie on the opening's edges, the pane is the opening less `frame_width` on each side, its front face the wall's +z. */
+        OpeningWindow: {
+            thickness?: components["schemas"]["WindowGenerator"]["thickness"];
+            material?: components["schemas"]["WindowGenerator"]["material"];
+            frame?: components["schemas"]["WindowGenerator"]["frame"];
+            frame_width?: components["schemas"]["WindowGenerator"]["frame_width"];
+            frame_depth?: components["schemas"]["WindowGenerator"]["frame_depth"];
+            sheltered_back?: components["schemas"]["WindowGenerator"]["sheltered_back"];
+            fracture?: components["schemas"]["Fracture"];
         };
         /**
          * @description A grid of equal boxes standing on `position` (x and z centred on it). Give `mass` (of one
@@ -2148,6 +2176,11 @@ export interface components {
              * @default true
              */
             sleep?: boolean;
+            /**
+             * @description Each body takes substeps of its own where its spin (2 sqrt(tolerance) rad a substep) or its approach to the ground needs them, instead of shortening every body's step. Needs integrator semi_implicit_euler and collisions off.
+             * @default false
+             */
+            body_substeps?: boolean;
         };
     };
     responses: {

@@ -1,7 +1,6 @@
 #include "sim/engine/pane_pattern.hpp"
 
 #include <algorithm>
-#include <cassert>
 #include <cmath>
 
 namespace brisance::engine {
@@ -61,7 +60,6 @@ PanePattern pane_pattern(const scene::FractureSpec& spec, double width_m, double
   params.wiggle_variance_deg = spec.wiggle_variance_deg;
   params.wiggle_length_m = 0.0;  // = a_c: the whole pattern scales with the growth length
   params.seed = seed;
-  assert(!fracture::validate(params));
   return out;
 }
 

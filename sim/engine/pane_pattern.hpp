@@ -22,7 +22,8 @@ struct PanePattern {
 };
 
 // The pane `spec` of width x height x thickness m under `peak_pressure_pa` on its face, its
-// pattern grown from `seed`.
+// pattern grown from `seed`. The parameters are not validated here: a scene's spec was, and the
+// CLI checks fracture::validate(params) with the flags it took.
 PanePattern pane_pattern(const scene::FractureSpec& spec, double width_m, double height_m,
                          double thickness_m, double peak_pressure_pa, std::uint64_t seed);
 

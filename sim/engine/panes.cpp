@@ -158,6 +158,7 @@ PaneReport break_pane(const scene::ObjectSpec& object, std::size_t index,
   report.growth_length_given = pattern_plan.growth_length_given;
   report.growth_length_clamped = pattern_plan.growth_length_clamped;
   const fracture::FractureParams& params = pattern_plan.params;
+  assert(!fracture::validate(params));  // the scene's fracture spec was validated
   const fracture::FracturePattern pattern = fracture::fracture(params);
 
   report.first_body = static_cast<std::uint32_t>(out.size());

@@ -108,12 +108,26 @@ std::array<double, 3> pivot_position(const engine::Pose& pose, const geometry::V
 
 // Where a body's node sits in its shape frame: the centre of mass of its (closed) mesh, so that a
 // compositor's pivot, motion blur and rotation are about the piece itself (a fragment's shape
-// frame is its pane's centre). Mesh without volume: the mean of its vertices.
+// frame is its pane's centre). The centroid of the signed tetrahedra from the origin to each
+// triangle (divergence theorem); a mesh without volume (open, flat) takes the mean of its
+// vertices. Any mesh is accepted: the writer does not require closed meshes.
 geometry::Vec3 node_pivot(const geometry::TriangleMesh& mesh) {
   if (mesh.triangles.empty()) return geometry::Vec3::Zero();
-  const geometry::MassProperties properties = geometry::mass_properties(mesh, 1.0);
-  if (properties.mass_kg > 0.0 && properties.centre_of_mass.allFinite())
-    return properties.centre_of_mass;
+  double six_volume = 0.0;
+  geometry::Vec3 weighted = geometry::Vec3::Zero();
+  double extent = 0.0;
+  for (const auto& triangle : mesh.triangles) {
+    const geometry::Vec3& a = mesh.vertices[triangle[0]];
+    const geometry::Vec3& b = mesh.vertices[triangle[1]];
+    const geometry::Vec3& c = mesh.vertices[triangle[2]];
+    const double v = a.dot(b.cross(c));
+    six_volume += v;
+    weighted += v * (a + b + c);
+    extent = std::max(
+        {extent, a.cwiseAbs().maxCoeff(), b.cwiseAbs().maxCoeff(), c.cwiseAbs().maxCoeff()});
+  }
+  if (six_volume > 1e-12 * extent * extent * extent && weighted.allFinite())
+    return weighted / (4.0 * six_volume);
   geometry::Vec3 sum = geometry::Vec3::Zero();
   for (const geometry::Vec3& vertex : mesh.vertices)
     sum += vertex;

@@ -856,7 +856,9 @@ class SystemdSandbox(FormRunner):
 
         families = set(service["RestrictAddressFamilies"].split())
         for _, name, rest in calls:
-            if name == "socket":
+            # Under load strace splits a call in two ("socket(AF_INET, ... <unfinished ...>" and
+            # "<... socket resumed>) = 9"); the first half names the family.
+            if name == "socket" and not rest.startswith("resumed>"):
                 self.assertIn(rest.split(",")[0], families, rest)
             if name in ("mmap", "mprotect", "pkey_mprotect"):
                 self.assertFalse("PROT_WRITE" in rest and "PROT_EXEC" in rest, rest)

@@ -659,7 +659,7 @@ class PgStorage final : public Storage {
       params.add(scoped_key).add(job.request_hash);
     }
     params.add(job.owner).add(job.name).add(job.labels_json).add(job.callback_url);
-    params.add(job.callback_url.empty() ? "" : "pending");
+    params.add(initial_callback_state(job));
     // Another node may insert the same key between the look-up and here: ON CONFLICT waits
     // for its commit and inserts nothing, and the look-up then finds that job.
     const pg::Result r = c.exec(
@@ -673,18 +673,7 @@ class PgStorage final : public Storage {
       if (auto found = existing()) return *found;
       throw StorageError("postgres: idempotency key conflict on a job that vanished");
     }
-    JobRecord created;
-    created.id = job.id;
-    created.seq = r.int64(0, 0);
-    created.priority = job.priority;
-    created.created_ms = job.now_ms;
-    created.updated_ms = job.now_ms;
-    created.owner = job.owner;
-    created.name = job.name;
-    created.labels_json = job.labels_json;
-    created.callback_url = job.callback_url;
-    created.callback_state = job.callback_url.empty() ? "" : "pending";
-    return {CreateOutcome::created, std::move(created)};
+    return {CreateOutcome::created, created_record(job, r.int64(0, 0))};
   }
 
   // A pooled connection, returned on destruction unless it broke.

@@ -826,21 +826,9 @@ class SqliteStorage final : public Storage {
       s.bind(6, scoped_key).bind(7, job.request_hash);
     }
     s.bind(8, job.owner).bind(9, job.name).bind(10, job.labels_json);
-    s.bind(11, job.callback_url).bind(12, job.callback_url.empty() ? "" : "pending");
+    s.bind(11, job.callback_url).bind(12, initial_callback_state(job));
     s.run();
-    // The row as inserted, without reading it back.
-    JobRecord created;
-    created.id = job.id;
-    created.seq = c.last_insert_rowid();
-    created.priority = job.priority;
-    created.created_ms = job.now_ms;
-    created.updated_ms = job.now_ms;
-    created.owner = job.owner;
-    created.name = job.name;
-    created.labels_json = job.labels_json;
-    created.callback_url = job.callback_url;
-    created.callback_state = job.callback_url.empty() ? "" : "pending";
-    return {CreateOutcome::created, std::move(created)};
+    return {CreateOutcome::created, created_record(job, c.last_insert_rowid())};
   }
 
   std::optional<JobRecord> read_by_id(Connection& c, std::string_view id) {

@@ -73,6 +73,27 @@ struct NewJob {
   bool create_if_missing = true;  // false: only look the idempotency key up (queue full)
 };
 
+// A new job's callback state: pending when it names a URL, else none.
+inline std::string_view initial_callback_state(const NewJob& job) {
+  return job.callback_url.empty() ? "" : "pending";
+}
+
+// The row create_job inserts for `job`, as a JobRecord, without reading it back.
+inline JobRecord created_record(const NewJob& job, std::int64_t seq) {
+  JobRecord created;
+  created.id = job.id;
+  created.seq = seq;
+  created.priority = job.priority;
+  created.created_ms = job.now_ms;
+  created.updated_ms = job.now_ms;
+  created.owner = job.owner;
+  created.name = job.name;
+  created.labels_json = job.labels_json;
+  created.callback_url = job.callback_url;
+  created.callback_state = std::string(initial_callback_state(job));
+  return created;
+}
+
 enum class CreateOutcome { created, existing, key_conflict, not_created };
 struct CreateResult {
   CreateOutcome outcome = CreateOutcome::created;

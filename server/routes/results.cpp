@@ -116,9 +116,9 @@ HttpResponse job_frames(const Context& c) {
     // Each frame's velocity takes its neighbours: one more frame on each side the page has.
     const std::int64_t lo = std::max<std::int64_t>(0, from - 1);
     const std::int64_t hi = std::min<std::int64_t>(layout->frame_count, to + 1);
-    io::FrameSet frames = io::with_velocities(
-        c.service.result_frame_set(c.id, *layout, lo, hi, bodies),
-        static_cast<std::size_t>(from - lo), static_cast<std::size_t>(hi - to));
+    io::FrameSet frames =
+        io::with_velocities(c.service.result_frame_set(c.id, *layout, lo, hi, bodies),
+                            static_cast<std::size_t>(from - lo), static_cast<std::size_t>(hi - to));
     r.body = io::frames_document_json(frames, static_cast<std::uint64_t>(layout->frame_count));
   } else {
     r.body = io::frames_document_json(c.service.result_frame_set(c.id, *layout, from, to, bodies),

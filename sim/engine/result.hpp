@@ -40,7 +40,8 @@ struct Stats {
   bool ended_early = false;  // everything at rest or gone before `duration`
   std::uint64_t bodies = 0;
   std::uint64_t bodies_anchored = 0;
-  std::uint64_t bodies_never_released = 0;    // held throughout (friction or a frame): never integrated
+  std::uint64_t bodies_never_released =
+      0;  // held throughout (friction or a frame): never integrated
   std::uint64_t fragments_held_by_frame = 0;  // of those, glass fragments its frame kept
   std::uint64_t bodies_slept = 0;             // came to rest and stopped being integrated
   std::uint64_t bodies_static_in_frames = 0;  // stored once instead of per frame

@@ -193,9 +193,9 @@ TEST(SceneErrors, ScenewideChecksSeeChargesAndObjectsWithOtherErrors) {
                             {"mass", 1}});
   const ParseResult result = parse_scene(doc);
   EXPECT_FALSE(result.scene);
-  for (const char* pointer : {"/charges/0/explosive", "/charges/0/position", "/charges/1/mass",
-                              "/charges/1/position", "/objects/0/mass", "/objects/1/friction",
-                              "/objects/1/position"}) {
+  for (const char* pointer :
+       {"/charges/0/explosive", "/charges/0/position", "/charges/1/mass", "/charges/1/position",
+        "/objects/0/mass", "/objects/1/friction", "/objects/1/position"}) {
     EXPECT_NE(find_error(result, pointer), nullptr) << pointer << " missing in\n"
                                                     << dump_errors(result);
   }

@@ -397,6 +397,63 @@ bool JobService::remove(const std::string& id) {
   return removed;
 }
 
+RecoveryReport JobService::recover_abandoned(
+    const std::function<bool(const std::string&)>& owner_is_dead) {
+  std::int64_t expired = 0;
+  for (const std::string& owner : storage_.running_owners()) {
+    if (owner_is_dead(owner)) expired += storage_.expire_leases(owner);
+  }
+  RecoveryReport report = storage_.recover_expired(now_ms(), options_.max_attempts);
+  report.expired_here = expired;
+  return report;
+}
+
+std::optional<ClaimedJob> JobService::claim(std::string_view owner, std::int64_t lease_ms) {
+  return storage_.claim_next(owner, now_ms(), lease_ms);
+}
+
+JobService::Progress JobService::report_progress(const std::string& id, std::string_view owner,
+                                                 double fraction) {
+  Progress progress = Progress::kept;
+  if (!storage_.set_progress(id, owner, fraction, now_ms())) {
+    progress = Progress::lease_lost;
+  } else if (storage_.cancel_requested(id)) {
+    progress = Progress::cancel_requested;
+  }
+  notifier_.notify(id);
+  return progress;
+}
+
+bool JobService::complete(const std::string& id, std::string_view owner,
+                          const engine::Result& result) {
+  return storage_.complete(id, owner, to_stored_result(result), now_ms());
+}
+
+void JobService::fail(const std::string& id, std::string_view owner, std::string_view error_type,
+                      std::string_view error_message) {
+  storage_.fail(id, owner, error_type, error_message, now_ms());
+}
+
+void JobService::finish_cancelled(const std::string& id, std::string_view owner) {
+  storage_.finish_cancelled(id, owner, now_ms());
+}
+
+void JobService::release(const std::string& id, std::string_view owner) {
+  storage_.release(id, owner, now_ms());
+}
+
+RecoveryReport JobService::keep_leases(const std::vector<std::string>& running,
+                                       std::string_view owner, std::int64_t lease_ms) {
+  const std::int64_t now = now_ms();
+  for (const std::string& id : running)
+    storage_.renew_lease(id, owner, now + lease_ms);
+  return storage_.recover_expired(now, options_.max_attempts);
+}
+
+std::int64_t JobService::prune_finished(std::chrono::milliseconds retention) {
+  return storage_.prune_finished(now_ms() - retention.count());
+}
+
 std::shared_ptr<std::atomic<bool>> JobService::register_running(const std::string& id) {
   auto flag = std::make_shared<std::atomic<bool>>(false);
   std::lock_guard lock(running_mutex_);

@@ -165,11 +165,37 @@ class JobService {
   // renormalised) through io::to_glb; nullopt when the job has no result.
   std::optional<std::vector<std::uint8_t>> result_glb(std::string_view id);
 
+  // For the workers (server/worker_pool): a claimed job's life under its owner's lease, `owner`
+  // being the pool's "host/pid/token". The worker wakes the job's long-polls (notifier()) once
+  // it has let go of the job; report_progress wakes them itself.
+  //
+  // At start: the jobs whose owner `owner_is_dead` says is gone lose their lease, then every
+  // expired lease is recovered (requeued, or failed after max_attempts claims).
+  RecoveryReport recover_abandoned(const std::function<bool(const std::string&)>& owner_is_dead);
+  // The queued job to run next (highest priority, oldest), leased to `owner` for lease_ms.
+  std::optional<ClaimedJob> claim(std::string_view owner, std::int64_t lease_ms);
+  enum class Progress { kept, cancel_requested, lease_lost };
+  // Stores a running job's progress (0..1); whether it was cancelled through another node, or
+  // its lease is gone (deleted, or taken over after it expired).
+  Progress report_progress(const std::string& id, std::string_view owner, double fraction);
+  // Stores the result and marks the job succeeded; false when the lease was lost. Throws
+  // StorageError when the store cannot take the result (a full disk).
+  bool complete(const std::string& id, std::string_view owner, const engine::Result& result);
+  void fail(const std::string& id, std::string_view owner, std::string_view error_type,
+            std::string_view error_message);
+  void finish_cancelled(const std::string& id, std::string_view owner);
+  // Back to the queue without counting the attempt (shutting down, or the store was full).
+  void release(const std::string& id, std::string_view owner);
+  // Renews the leases of `running` for lease_ms and recovers the expired leases of any node.
+  RecoveryReport keep_leases(const std::vector<std::string>& running, std::string_view owner,
+                             std::int64_t lease_ms);
+  // Deletes the jobs that finished longer than `retention` ago; how many.
+  std::int64_t prune_finished(std::chrono::milliseconds retention);
+
   QueueCounts queue_counts() { return storage_.queue_counts(now_ms()); }
   bool database_ok() { return storage_.ping(); }
 
   ChangeNotifier& notifier() { return notifier_; }
-  Storage& storage() { return storage_; }
   const ServiceOptions& options() const { return options_; }
 
   // Cancellation flags of the jobs running in this process, polled by their workers every step.

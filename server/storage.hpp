@@ -171,6 +171,7 @@ enum class CancelOutcome { not_found, cancelled, requested, already_final };
 struct RecoveryReport {
   std::int64_t requeued = 0;
   std::int64_t failed = 0;
+  std::int64_t expired_here = 0;  // leases of dead processes on this host ended first
 };
 
 class Storage {

@@ -64,13 +64,9 @@ void WorkerPool::wake_all() {
 void WorkerPool::start() {
   if (started_) return;
   started_ = true;
-  Storage& storage = service_.storage();
-  std::int64_t expired = 0;
-  for (const std::string& owner : storage.running_owners()) {
-    if (owner_is_dead_here(owner, owner_)) expired += storage.expire_leases(owner);
-  }
-  const RecoveryReport report = storage.recover_expired(now_ms(), service_.options().max_attempts);
-  if (report.requeued > 0 || report.failed > 0 || expired > 0) {
+  const RecoveryReport report = service_.recover_abandoned(
+      [this](const std::string& owner) { return owner_is_dead_here(owner, owner_); });
+  if (report.requeued > 0 || report.failed > 0 || report.expired_here > 0) {
     log_event(LogLevel::warn, "recovered jobs left running by a stopped process",
               {{"requeued", report.requeued}, {"failed", report.failed}});
   }
@@ -108,7 +104,7 @@ void WorkerPool::work() {
     }
     std::optional<ClaimedJob> claimed;
     try {
-      claimed = service_.storage().claim_next(owner_, now_ms(), options_.lease.count());
+      claimed = service_.claim(owner_, options_.lease.count());
     } catch (const std::exception& error) {
       log_event(LogLevel::error, "cannot claim a job", {{"error", error.what()}});
     }
@@ -126,7 +122,6 @@ void WorkerPool::work() {
 
 void WorkerPool::run_job(ClaimedJob claimed) {
   const std::string id = claimed.job.id;
-  Storage& storage = service_.storage();
   {
     std::lock_guard lock(mutex_);
     running_ids_.insert(id);
@@ -160,15 +155,19 @@ void WorkerPool::run_job(ClaimedJob claimed) {
       if (now - last_progress < options_.progress_interval) return;
       last_progress = now;
       try {
-        if (!storage.set_progress(id, owner_, fraction, now_ms())) {
-          lease_lost = true;
-        } else if (storage.cancel_requested(id)) {
-          cancel_flag->store(true);  // cancelled through another process
+        switch (service_.report_progress(id, owner_, fraction)) {
+          case JobService::Progress::kept:
+            break;
+          case JobService::Progress::lease_lost:
+            lease_lost = true;
+            break;
+          case JobService::Progress::cancel_requested:
+            cancel_flag->store(true);  // cancelled through another process
+            break;
         }
       } catch (const std::exception& error) {
         log_event(LogLevel::warn, "cannot store progress", {{"job", id}, {"error", error.what()}});
       }
-      service_.notifier().notify(id);
     };
     hooks.cancel_requested = [&] {
       if (cancel_flag->load(std::memory_order_relaxed) || lease_lost ||
@@ -185,10 +184,9 @@ void WorkerPool::run_job(ClaimedJob claimed) {
     try {
       engine::RunOutcome run = engine::simulate(*parsed.scene, hooks);
       if (!run.cancelled) {
-        const StoredResult stored = to_stored_result(run.result);
         try {
-          outcome = storage.complete(id, owner_, stored, now_ms()) ? JobStatus::succeeded
-                                                                   : JobStatus::queued;
+          outcome =
+              service_.complete(id, owner_, run.result) ? JobStatus::succeeded : JobStatus::queued;
           if (outcome == JobStatus::queued) lease_lost = true;
         } catch (const StorageError& error) {
           // Not the job's fault (a full disk, say): it goes back to the queue without counting
@@ -219,18 +217,18 @@ void WorkerPool::run_job(ClaimedJob claimed) {
     } else if (outcome == JobStatus::succeeded) {
       metrics_.record_job(outcome, seconds);
     } else if (outcome == JobStatus::cancelled) {
-      storage.finish_cancelled(id, owner_, now_ms());
+      service_.finish_cancelled(id, owner_);
       metrics_.record_job(outcome, seconds);
     } else if (store_failed) {
-      storage.release(id, owner_, now_ms());
+      service_.release(id, owner_);
       label = "requeued (its result could not be stored)";
       std::lock_guard lock(mutex_);
       claim_pause_until_ = Clock::now() + options_.store_failure_pause;
     } else if (error_type.empty() && abort_) {
-      storage.release(id, owner_, now_ms());
+      service_.release(id, owner_);
       label = "requeued (shutting down)";
     } else {
-      storage.fail(id, owner_, error_type, error_message, now_ms());
+      service_.fail(id, owner_, error_type, error_message);
       metrics_.record_job(JobStatus::failed, seconds);
     }
   } catch (const std::exception& error) {
@@ -273,11 +271,7 @@ void WorkerPool::keep() {
       ids.assign(running_ids_.begin(), running_ids_.end());
     }
     try {
-      Storage& storage = service_.storage();
-      const std::int64_t now = now_ms();
-      for (const auto& id : ids)
-        storage.renew_lease(id, owner_, now + options_.lease.count());
-      const RecoveryReport report = storage.recover_expired(now, service_.options().max_attempts);
+      const RecoveryReport report = service_.keep_leases(ids, owner_, options_.lease.count());
       if (report.requeued > 0 || report.failed > 0) {
         log_event(LogLevel::warn, "recovered jobs whose worker stopped renewing its lease",
                   {{"requeued", report.requeued}, {"failed", report.failed}});
@@ -285,9 +279,9 @@ void WorkerPool::keep() {
       }
       if (options_.retention.count() > 0 && Clock::now() - last_prune > std::chrono::minutes(1)) {
         last_prune = Clock::now();
-        const auto before =
-            now - std::chrono::duration_cast<std::chrono::milliseconds>(options_.retention).count();
-        if (const std::int64_t pruned = storage.prune_finished(before); pruned > 0) {
+        const auto retention =
+            std::chrono::duration_cast<std::chrono::milliseconds>(options_.retention);
+        if (const std::int64_t pruned = service_.prune_finished(retention); pruned > 0) {
           log_event(LogLevel::info, "pruned finished jobs past retention", {{"jobs", pruned}});
         }
       }

@@ -289,7 +289,7 @@ TEST(Api, DeleteRemovesTheJobAndItsResults) {
   EXPECT_EQ(server.request("GET", "/v1/jobs/" + id).status, 404);
   EXPECT_EQ(server.request("GET", "/v1/jobs/" + id + "/frames").status, 404);
   EXPECT_EQ(server.request("DELETE", "/v1/jobs/" + id).status, 404);
-  EXPECT_TRUE(server.service().storage().result_bodies(id).empty());
+  EXPECT_TRUE(server.storage().result_bodies(id).empty());
 }
 
 TEST(Api, FullQueueAnswers429WithRetryAfter) {
@@ -404,7 +404,7 @@ TEST(Api, HigherPriorityJobsRunFirst) {
   const std::string low = submit(server, quick_scene());
   const ClientResponse high_r = server.request("POST", "/v1/jobs", job_body(quick_scene(), 10));
   const std::string high = json::parse(high_r.body).at("id");
-  auto claimed = server.service().storage().claim_next("test", server::now_ms(), 1000);
+  auto claimed = server.storage().claim_next("test", server::now_ms(), 1000);
   ASSERT_TRUE(claimed);
   EXPECT_EQ(claimed->job.id, high);
   EXPECT_NE(claimed->job.id, low);
@@ -829,7 +829,7 @@ TEST(Api, GracefulStopPutsTheRunningJobBackInTheQueue) {
   auto server = std::make_unique<TestServer>(with_workers(1));
   const std::string id = submit(*server, slow_scene());
   ASSERT_EQ(wait_for(*server, id, "running").at("status"), "running");
-  server::Storage& storage = server->service().storage();
+  server::Storage& storage = server->storage();
   server->stop();  // grace 0: the run is cancelled and released
   const auto job = storage.get_job(id);
   ASSERT_TRUE(job);

@@ -113,6 +113,9 @@ class TestServer {
 
   std::uint16_t port() const { return http_->port(); }
   server::JobService& service() { return *service_; }
+  // The store itself, for tests that look behind the service (the server reaches it only through
+  // the service).
+  server::Storage& storage() { return *storage_; }
   server::WorkerPool& pool() { return *pool_; }
 
   ClientResponse request(const std::string& method, const std::string& target,

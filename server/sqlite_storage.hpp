@@ -15,20 +15,10 @@
 #include <memory>
 #include <string>
 
+#include "server/sqlite.hpp"
 #include "server/storage.hpp"
 
 namespace brisance::server {
-
-enum class Synchronous { normal, full };
-
-struct SqliteOptions {
-  std::filesystem::path file;  // created with its directory if missing
-  Synchronous synchronous = Synchronous::normal;
-  int busy_timeout_ms = 5000;
-  // Largest size the database may grow to, bytes (0: no limit): writes beyond it fail as they
-  // would on a full disk (SQLITE_FULL), which is how the tests fill a disk.
-  std::int64_t max_size_bytes = 0;
-};
 
 // Opens (creating if needed) and migrates the database; StorageError if it cannot.
 std::unique_ptr<Storage> open_sqlite_storage(const SqliteOptions& options);

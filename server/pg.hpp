@@ -32,6 +32,16 @@ struct Error : StorageError {
   std::string sqlstate;
 };
 
+// Whether PostgreSQL can hold `text` in a text column: valid UTF-8 (the database encoding) and no
+// NUL (libpq passes text parameters as C strings). SQLite stores any bytes, so the PostgreSQL
+// store handles a client's bytes that PostgreSQL cannot hold the same way for both stores: an id
+// or owner that is not storable names no job, and an idempotency key that is not storable is
+// stored encoded (storable_key).
+bool storable(std::string_view text);
+// A key PostgreSQL can store for any bytes: itself when storable, else a line feed (which no
+// HTTP header holds, so no storable key looks like it) and its bytes in hex.
+std::string storable_key(std::string_view key);
+
 // The parameters $1, $2 … of one statement. Values are copied in.
 class Params {
  public:

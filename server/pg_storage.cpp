@@ -2,20 +2,16 @@
 
 #include <algorithm>
 #include <atomic>
-#include <condition_variable>
 #include <exception>
 #include <mutex>
 #include <span>
-#include <thread>
-#include <type_traits>
 #include <utility>
 #include <vector>
-
-#include <poll.h>
 
 #include "server/embedded.hpp"
 #include "server/group_commit.hpp"
 #include "server/pg.hpp"
+#include "server/pg_pool.hpp"
 
 namespace brisance::server {
 
@@ -24,8 +20,6 @@ bool is_postgres_url(std::string_view text) {
 }
 
 namespace {
-
-using Clock = std::chrono::steady_clock;
 
 // pg_advisory_lock key of the migrations: "brisance" in ASCII.
 constexpr const char* kMigrationLock = "SELECT pg_advisory_lock(7093015238034759269)";
@@ -42,60 +36,8 @@ constexpr std::size_t kFramesPerInsert = 1000;
   "callback_url, callback_state, callback_deliveries"
 constexpr int kJobColumnCount = 21;
 
-// Whether PostgreSQL can hold `text` in a text column: valid UTF-8 (the database encoding) and no
-// NUL (libpq passes text parameters as C strings). SQLite stores any bytes, so a client's bytes
-// that PostgreSQL cannot hold are handled here, the same way for both stores: an id or owner that
-// is not storable names no job, and an idempotency key that is not storable is stored encoded.
-bool storable(std::string_view text) {
-  for (std::size_t i = 0; i < text.size();) {
-    const auto c = static_cast<unsigned char>(text[i]);
-    if (c == 0) return false;
-    if (c < 0x80) {
-      ++i;
-      continue;
-    }
-    std::size_t length = 0;
-    std::uint32_t code = 0;
-    if ((c & 0xE0) == 0xC0) {
-      length = 2;
-      code = c & 0x1F;
-    } else if ((c & 0xF0) == 0xE0) {
-      length = 3;
-      code = c & 0x0F;
-    } else if ((c & 0xF8) == 0xF0) {
-      length = 4;
-      code = c & 0x07;
-    } else {
-      return false;
-    }
-    if (i + length > text.size()) return false;
-    for (std::size_t k = 1; k < length; ++k) {
-      const auto next = static_cast<unsigned char>(text[i + k]);
-      if ((next & 0xC0) != 0x80) return false;
-      code = (code << 6) | (next & 0x3F);
-    }
-    // Overlong forms, UTF-16 surrogates and code points beyond U+10FFFF are not UTF-8.
-    constexpr std::uint32_t kMin[] = {0, 0, 0x80, 0x800, 0x10000};
-    if (code < kMin[length] || (code >= 0xD800 && code <= 0xDFFF) || code > 0x10FFFF) {
-      return false;
-    }
-    i += length;
-  }
-  return true;
-}
-
-// A key PostgreSQL can store for any bytes: itself when storable, else a line feed (which no
-// HTTP header holds, so no storable key looks like it) and its bytes in hex.
-std::string storable_key(std::string_view key) {
-  if (storable(key)) return std::string(key);
-  static constexpr char kHex[] = "0123456789abcdef";
-  std::string out = "\n~";
-  for (const char byte : key) {
-    out.push_back(kHex[static_cast<unsigned char>(byte) >> 4]);
-    out.push_back(kHex[static_cast<unsigned char>(byte) & 0xF]);
-  }
-  return out;
-}
+using pg::storable;
+using pg::storable_key;
 
 JobRecord read_job(const pg::Result& r, int row) {
   JobRecord j;
@@ -126,21 +68,16 @@ JobRecord read_job(const pg::Result& r, int row) {
 class PgStorage final : public Storage {
  public:
   explicit PgStorage(PostgresOptions options)
-      : options_(std::move(options)), backoff_(options_.first_backoff) {
-    with_connection([&](pg::Connection& c) {
+      : options_(std::move(options)),
+        pool_({options_.conninfo, options_.first_backoff, options_.max_backoff,
+               kMaxIdleConnections}) {
+    pool_.with_connection([&](pg::Connection& c) {
       migrate(c);
       return 0;
     });
   }
 
-  ~PgStorage() override {
-    {
-      std::lock_guard lock(listen_mutex_);
-      stop_ = true;
-    }
-    listen_wake_.notify_all();
-    if (listener_.joinable()) listener_.join();
-  }
+  ~PgStorage() override { listener_.reset(); }
 
   // Group commit (server/group_commit.hpp): concurrent submissions share one transaction.
   CreateResult create_job(const NewJob& job) override {
@@ -150,7 +87,7 @@ class PgStorage final : public Storage {
 
   std::optional<JobRecord> get_job(std::string_view id) override {
     if (!storable(id)) return std::nullopt;
-    return with_connection([&](pg::Connection& c) -> std::optional<JobRecord> {
+    return pool_.with_connection([&](pg::Connection& c) -> std::optional<JobRecord> {
       const pg::Result r =
           c.exec("SELECT " JOB_COLUMNS " FROM jobs WHERE id = $1", pg::Params().add(id));
       if (r.rows() == 0) return std::nullopt;
@@ -180,7 +117,7 @@ class PgStorage final : public Storage {
     }
     params.add(limit + 1);
     sql += " ORDER BY seq DESC LIMIT $" + std::to_string(params.size());
-    return with_connection([&](pg::Connection& c) {
+    return pool_.with_connection([&](pg::Connection& c) {
       const pg::Result r = c.exec(sql.c_str(), params);
       JobPage page;
       for (int row = 0; row < r.rows(); ++row)
@@ -194,13 +131,13 @@ class PgStorage final : public Storage {
   }
 
   std::int64_t count_queued() override {
-    return with_connection([&](pg::Connection& c) {
+    return pool_.with_connection([&](pg::Connection& c) {
       return c.exec("SELECT count(*) FROM jobs WHERE status = 'queued'").int64(0, 0);
     });
   }
 
   QueueCounts queue_counts(std::int64_t now_ms) override {
-    return with_connection([&](pg::Connection& c) {
+    return pool_.with_connection([&](pg::Connection& c) {
       // One statement, so one snapshot.
       const pg::Result r = c.exec(
           "SELECT count(*) FILTER (WHERE status = 'queued'), "
@@ -223,7 +160,7 @@ class PgStorage final : public Storage {
 
   std::optional<ClaimedJob> claim_next(std::string_view owner, std::int64_t now_ms,
                                        std::int64_t lease_ms) override {
-    return with_connection([&](pg::Connection& c) -> std::optional<ClaimedJob> {
+    return pool_.with_connection([&](pg::Connection& c) -> std::optional<ClaimedJob> {
       // SKIP LOCKED: a row another node is claiming right now is passed over, not waited on.
       const pg::Result r = c.exec(
           "WITH next AS (SELECT seq AS next_seq FROM jobs WHERE status = 'queued' "
@@ -257,7 +194,7 @@ class PgStorage final : public Storage {
   bool complete(std::string_view id, std::string_view owner, const StoredResult& result,
                 std::int64_t now_ms) override {
     if (!storable(id) || !storable(owner)) return false;
-    return with_connection([&](pg::Connection& c) {
+    return pool_.with_connection([&](pg::Connection& c) {
       pg::Transaction tx(c);
       std::int64_t seq = 0;
       {
@@ -340,7 +277,7 @@ class PgStorage final : public Storage {
 
   bool cancel_requested(std::string_view id) override {
     if (!storable(id)) return true;  // no such job: as deleted
-    return with_connection([&](pg::Connection& c) {
+    return pool_.with_connection([&](pg::Connection& c) {
       const pg::Result r =
           c.exec("SELECT cancel_requested FROM jobs WHERE id = $1", pg::Params().add(id));
       return r.rows() == 0 || r.boolean(0, 0);  // a deleted job counts as cancelled
@@ -349,7 +286,7 @@ class PgStorage final : public Storage {
 
   CancelOutcome request_cancel(std::string_view id, std::int64_t now_ms) override {
     if (!storable(id)) return CancelOutcome::not_found;
-    return with_connection([&](pg::Connection& c) {
+    return pool_.with_connection([&](pg::Connection& c) {
       pg::Transaction tx(c);
       JobStatus status;
       {
@@ -385,7 +322,7 @@ class PgStorage final : public Storage {
   }
 
   PutAsset put_asset(const AssetRecord& asset, std::string_view bytes) override {
-    const bool created = with_connection([&](pg::Connection& c) {
+    const bool created = pool_.with_connection([&](pg::Connection& c) {
       return c.exec(
                   "INSERT INTO assets (owner, id, format, size_bytes, nodes, created_ms, bytes) "
                   "VALUES ($1, $2, $3, $4, $5, $6, $7) ON CONFLICT (owner, id) DO NOTHING",
@@ -407,7 +344,7 @@ class PgStorage final : public Storage {
   std::optional<AssetRecord> get_asset(std::string_view id,
                                        std::optional<std::string_view> owner) override {
     if (!storable(id) || (owner && !storable(*owner))) return std::nullopt;
-    return with_connection([&](pg::Connection& c) -> std::optional<AssetRecord> {
+    return pool_.with_connection([&](pg::Connection& c) -> std::optional<AssetRecord> {
       const pg::Result r = c.exec(
           "SELECT id, owner, format, size_bytes, nodes, created_ms FROM assets "
           "WHERE id = $1 AND ($2 = 0 OR owner = $3) ORDER BY created_ms, owner LIMIT 1",
@@ -422,7 +359,7 @@ class PgStorage final : public Storage {
   std::optional<std::string> asset_bytes(std::string_view id,
                                          std::optional<std::string_view> owner) override {
     if (!storable(id) || (owner && !storable(*owner))) return std::nullopt;
-    return with_connection([&](pg::Connection& c) -> std::optional<std::string> {
+    return pool_.with_connection([&](pg::Connection& c) -> std::optional<std::string> {
       const pg::Result r = c.exec(
           "SELECT bytes FROM assets WHERE id = $1 AND ($2 = 0 OR owner = $3) "
           "ORDER BY created_ms, owner LIMIT 1",
@@ -444,7 +381,7 @@ class PgStorage final : public Storage {
 
   std::vector<StoredBody> result_bodies(std::string_view id) override {
     if (!storable(id)) return {};
-    return with_connection([&](pg::Connection& c) {
+    return pool_.with_connection([&](pg::Connection& c) {
       const pg::Result r = c.exec(
           "SELECT b.name, b.mass_kg, b.animated, b.initial_pose, b.vertices, b.triangles "
           "FROM job_bodies b JOIN jobs j ON j.seq = b.job_seq WHERE j.id = $1 "
@@ -469,7 +406,7 @@ class PgStorage final : public Storage {
   std::vector<StoredFrame> result_frames(std::string_view id, std::int64_t from,
                                          std::int64_t to) override {
     if (!storable(id)) return {};
-    return with_connection([&](pg::Connection& c) {
+    return pool_.with_connection([&](pg::Connection& c) {
       const pg::Result r = c.exec(
           "SELECT f.time_s, f.poses FROM job_frames f JOIN jobs j ON j.seq = f.job_seq "
           "WHERE j.id = $1 AND f.frame >= $2 AND f.frame < $3 ORDER BY f.frame",
@@ -489,7 +426,7 @@ class PgStorage final : public Storage {
   // its job) holds are skipped, not waited on, so keepers never wait on or deadlock with each
   // other; the next tick takes what was skipped.
   RecoveryReport recover_expired(std::int64_t now_ms, int max_attempts) override {
-    return with_connection([&](pg::Connection& c) {
+    return pool_.with_connection([&](pg::Connection& c) {
       pg::Transaction tx(c);
       RecoveryReport report;
       report.failed =
@@ -522,7 +459,7 @@ class PgStorage final : public Storage {
   }
 
   std::vector<std::string> running_owners() override {
-    return with_connection([&](pg::Connection& c) {
+    return pool_.with_connection([&](pg::Connection& c) {
       const pg::Result r = c.exec(
           "SELECT DISTINCT lease_owner FROM jobs WHERE status = 'running' "
           "AND lease_owner IS NOT NULL ORDER BY lease_owner");
@@ -535,7 +472,7 @@ class PgStorage final : public Storage {
 
   std::int64_t expire_leases(std::string_view owner) override {
     if (!storable(owner)) return 0;
-    return with_connection([&](pg::Connection& c) {
+    return pool_.with_connection([&](pg::Connection& c) {
       return c
           .exec(
               "UPDATE jobs SET lease_expires_ms = 0 WHERE status = 'running' AND lease_owner = $1",
@@ -545,7 +482,7 @@ class PgStorage final : public Storage {
   }
 
   std::optional<JobRecord> claim_callback(std::int64_t now_ms, std::int64_t lease_ms) override {
-    return with_connection([&](pg::Connection& c) -> std::optional<JobRecord> {
+    return pool_.with_connection([&](pg::Connection& c) -> std::optional<JobRecord> {
       // SKIP LOCKED: senders on other nodes take other deliveries instead of waiting.
       const pg::Result r = c.exec(
           "UPDATE jobs SET callback_next_ms = $2 WHERE seq = (SELECT seq FROM jobs WHERE "
@@ -561,7 +498,7 @@ class PgStorage final : public Storage {
   bool record_callback(std::string_view id, std::string_view deliveries_json,
                        std::string_view state, std::int64_t next_ms, std::int64_t now_ms) override {
     if (!storable(id)) return false;
-    return with_connection([&](pg::Connection& c) {
+    return pool_.with_connection([&](pg::Connection& c) {
       return c.exec(
                   "UPDATE jobs SET callback_deliveries = $2, callback_state = $3, "
                   "callback_next_ms = $4, version = version + 1, updated_ms = $5 WHERE id = $1 "
@@ -572,7 +509,7 @@ class PgStorage final : public Storage {
   }
 
   std::int64_t prune_finished(std::int64_t before_ms) override {
-    return with_connection([&](pg::Connection& c) {
+    return pool_.with_connection([&](pg::Connection& c) {
       return c
           .exec(
               "DELETE FROM jobs WHERE finished_ms < $1 AND status IN ('succeeded', 'failed', "
@@ -584,7 +521,8 @@ class PgStorage final : public Storage {
 
   bool ping() override {
     try {
-      return with_connection([](pg::Connection& c) { return c.exec("SELECT 1").int64(0, 0) == 1; });
+      return pool_.with_connection(
+          [](pg::Connection& c) { return c.exec("SELECT 1").int64(0, 0) == 1; });
     } catch (const StorageError&) {
       return false;
     }
@@ -593,11 +531,16 @@ class PgStorage final : public Storage {
   void watch(JobChanged job_changed, WorkQueued work_queued) override {
     // Waits for a dispatch in progress, so the old callbacks are not called after this returns.
     std::lock_guard dispatching(dispatch_mutex_);
-    std::lock_guard lock(listen_mutex_);
     job_changed_ = std::move(job_changed);
     work_queued_ = std::move(work_queued);
-    if (!listener_.joinable() && (job_changed_ || work_queued_)) {
-      listener_ = std::thread([this] { listen(); });
+    if (!listener_ && (job_changed_ || work_queued_)) {
+      listener_ = std::make_unique<pg::Listener>(
+          pg::PoolOptions{options_.conninfo, options_.first_backoff, options_.max_backoff},
+          std::vector<std::string>{"brisance_jobs", "brisance_queue"},
+          [this](const pg::Notification& n) { dispatch(n); },
+          [this] {
+            dispatch({"brisance_queue", ""});
+          });
     }
   }
 
@@ -606,7 +549,7 @@ class PgStorage final : public Storage {
     if (batch.size() > 1) {
       try {
         std::vector<CreateResult> results;
-        with_connection([&](pg::Connection& c) {
+        pool_.with_connection([&](pg::Connection& c) {
           results.clear();
           pg::Transaction tx(c);
           for (const PendingCreate* p : batch)
@@ -624,7 +567,8 @@ class PgStorage final : public Storage {
     }
     for (PendingCreate* p : batch) {
       try {
-        p->result = with_connection([&](pg::Connection& c) { return create_one(c, *p->job); });
+        p->result =
+            pool_.with_connection([&](pg::Connection& c) { return create_one(c, *p->job); });
       } catch (const StorageError&) {
         p->error = std::current_exception();
       }
@@ -676,88 +620,11 @@ class PgStorage final : public Storage {
     return {CreateOutcome::created, created_record(job, r.int64(0, 0))};
   }
 
-  // A pooled connection, returned on destruction unless it broke.
-  class Lease {
-   public:
-    Lease(PgStorage& owner, std::unique_ptr<pg::Connection> c, bool reused)
-        : owner_(owner), c_(std::move(c)), reused_(reused) {}
-    Lease(const Lease&) = delete;
-    Lease& operator=(const Lease&) = delete;
-    ~Lease() {
-      if (!c_->ok()) return;
-      std::lock_guard lock(owner_.pool_mutex_);
-      if (owner_.pool_.size() < kMaxIdleConnections) owner_.pool_.push_back(std::move(c_));
-    }
-    pg::Connection& operator*() { return *c_; }
-    bool reused() const { return reused_; }
-
-   private:
-    PgStorage& owner_;
-    std::unique_ptr<pg::Connection> c_;
-    bool reused_;
-  };
-
-  Lease acquire() {
-    {
-      std::lock_guard lock(pool_mutex_);
-      if (!pool_.empty()) {
-        auto c = std::move(pool_.back());
-        pool_.pop_back();
-        return Lease(*this, std::move(c), true);
-      }
-    }
-    return Lease(*this, connect(), false);
-  }
-
-  // A new connection, unless the last attempt failed less than the backoff ago: then the store
-  // answers at once that the server is unreachable.
-  std::unique_ptr<pg::Connection> connect() {
-    {
-      std::lock_guard lock(backoff_mutex_);
-      if (Clock::now() < retry_at_) {
-        throw StorageError("postgres: unreachable, retrying with backoff: " + last_error_);
-      }
-    }
-    try {
-      auto c = std::make_unique<pg::Connection>(options_.conninfo);
-      std::lock_guard lock(backoff_mutex_);
-      backoff_ = options_.first_backoff;
-      return c;
-    } catch (const StorageError& error) {
-      std::lock_guard lock(backoff_mutex_);
-      retry_at_ = Clock::now() + backoff_;
-      backoff_ = std::min(backoff_ * 2, options_.max_backoff);
-      last_error_ = error.what();
-      throw;
-    }
-  }
-
-  // Runs `f` on a pooled connection. When a reused connection turns out broken (the server
-  // restarted since it was pooled), every idle one is presumed broken too and `f` runs once more
-  // on a new connection: a statement that failed because the connection was dead never reached
-  // the server's commit.
-  template <typename F>
-  std::invoke_result_t<F&, pg::Connection&> with_connection(F f) {
-    for (int attempt = 0;; ++attempt) {
-      Lease c = acquire();
-      try {
-        return f(*c);
-      } catch (const StorageError&) {
-        if ((*c).ok()) throw;
-        {
-          std::lock_guard lock(pool_mutex_);
-          pool_.clear();
-        }
-        if (!c.reused() || attempt > 0) throw;
-      }
-    }
-  }
-
   // One conditional UPDATE/DELETE of job `id` (held by `owner`): true when it touched a row.
   bool owned_update(std::string_view id, std::string_view owner, const char* sql,
                     const pg::Params& params) {
     if (!storable(id) || !storable(owner)) return false;
-    return with_connection([&](pg::Connection& c) {
+    return pool_.with_connection([&](pg::Connection& c) {
       const pg::Result r = c.exec(sql, params);
       return r.affected() > 0;
     });
@@ -765,7 +632,7 @@ class PgStorage final : public Storage {
 
   std::optional<std::string> text_column(const char* sql, std::string_view id) {
     if (!storable(id)) return std::nullopt;
-    return with_connection([&](pg::Connection& c) -> std::optional<std::string> {
+    return pool_.with_connection([&](pg::Connection& c) -> std::optional<std::string> {
       const pg::Result r = c.exec(sql, pg::Params().add(id));
       if (r.rows() == 0) return std::nullopt;
       return std::string(r.text(0, 0));
@@ -800,43 +667,6 @@ class PgStorage final : public Storage {
     c.exec(kMigrationUnlock);
   }
 
-  // The LISTEN connection: reconnects with backoff; after every (re)connection it reports work
-  // queued, since notifications sent while it was away are lost.
-  void listen() {
-    std::unique_ptr<pg::Connection> c;
-    auto backoff = options_.first_backoff;
-    while (true) {
-      {
-        std::lock_guard lock(listen_mutex_);
-        if (stop_) return;
-      }
-      if (!c) {
-        try {
-          c = std::make_unique<pg::Connection>(options_.conninfo);
-          c->exec("LISTEN brisance_jobs");
-          c->exec("LISTEN brisance_queue");
-          backoff = options_.first_backoff;
-        } catch (const StorageError&) {
-          c.reset();
-          std::unique_lock lock(listen_mutex_);
-          listen_wake_.wait_for(lock, backoff, [this] { return stop_; });
-          backoff = std::min(backoff * 2, options_.max_backoff);
-          continue;
-        }
-        dispatch({"brisance_queue", ""});
-      }
-      // A short poll, so a stop request is seen within it.
-      pollfd fd{c->socket(), POLLIN, 0};
-      if (poll(&fd, 1, 200) < 0) continue;
-      if (!c->consume()) {
-        c.reset();
-        continue;
-      }
-      while (auto n = c->next_notification())
-        dispatch(*n);
-    }
-  }
-
   void dispatch(const pg::Notification& n) {
     std::lock_guard dispatching(dispatch_mutex_);
     if (n.channel == "brisance_jobs" && job_changed_) {
@@ -847,24 +677,13 @@ class PgStorage final : public Storage {
   }
 
   PostgresOptions options_;
-
-  std::mutex pool_mutex_;
-  std::vector<std::unique_ptr<pg::Connection>> pool_;
-
-  std::mutex backoff_mutex_;
-  Clock::time_point retry_at_{};
-  std::chrono::milliseconds backoff_;
-  std::string last_error_;
-
+  pg::Pool pool_;
   GroupCommit group_;
 
   std::mutex dispatch_mutex_;  // held while the callbacks run, and while they are replaced
-  std::mutex listen_mutex_;
-  std::condition_variable listen_wake_;
-  bool stop_ = false;
   JobChanged job_changed_;
   WorkQueued work_queued_;
-  std::thread listener_;
+  std::unique_ptr<pg::Listener> listener_;  // started by the first watch() with a callback
 };
 
 }  // namespace

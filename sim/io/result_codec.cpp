@@ -38,21 +38,15 @@ json result_summary(const engine::Result& result) {
   json bodies = json::array();
   for (std::size_t i = 0; i < result.bodies.size(); ++i)
     bodies.push_back(body_entry(i, result.bodies[i], animated[i]));
-  json final_state = json::array();
-  for (const engine::FinalState& state : result.final_state)
-    final_state.push_back(final_state_to_json(state));
-  json warnings = json::array();
-  for (const engine::Warning& warning : result.warnings)
-    warnings.push_back(warning_to_json(warning));
   const double duration = result.frame_times_s.empty() ? 0.0 : result.frame_times_s.back();
   return json{{"bodies", std::move(bodies)},
               {"animated", result.animated},
               {"frame_count", result.frame_times_s.size()},
               {"duration", duration},
               {"frame_times", result.frame_times_s},
-              {"final_state", std::move(final_state)},
+              {"final_state", final_states_to_json(result.final_state)},
               {"stats", stats_to_json(result.stats)},
-              {"warnings", std::move(warnings)},
+              {"warnings", warnings_to_json(result.warnings)},
               {"fracture", fracture_to_json(result.fracture)},
               {"shielding", shielding_to_json(result)}};
 }

@@ -82,6 +82,20 @@ json warning_to_json(const engine::Warning& warning) {
   return json{{"code", warning.code}, {"message", warning.message}, {"count", warning.count}};
 }
 
+json final_states_to_json(const std::vector<engine::FinalState>& states) {
+  json list = json::array();
+  for (const engine::FinalState& state : states)
+    list.push_back(final_state_to_json(state));
+  return list;
+}
+
+json warnings_to_json(const std::vector<engine::Warning>& warnings) {
+  json list = json::array();
+  for (const engine::Warning& warning : warnings)
+    list.push_back(warning_to_json(warning));
+  return list;
+}
+
 json stats_to_json(const engine::Stats& stats) {
   // Binding every member by name makes a field added to Stats a compile error here until it is
   // written too, so "stats" always holds every field.
@@ -182,20 +196,14 @@ json result_to_json(const engine::Result& result) {
   json frames = json::array();
   for (std::size_t f = 0; f < frame_set.frame_count(); ++f)
     frames.push_back(frame_to_json(frame_set, f));
-  json final_state = json::array();
-  for (const engine::FinalState& state : result.final_state)
-    final_state.push_back(final_state_to_json(state));
-  json warnings = json::array();
-  for (const engine::Warning& warning : result.warnings)
-    warnings.push_back(warning_to_json(warning));
 
   return json{{"bodies", std::move(bodies)},
               {"frames", std::move(frames)},
-              {"final_state", std::move(final_state)},
+              {"final_state", final_states_to_json(result.final_state)},
               {"fracture", fracture_to_json(result.fracture)},
               {"shielding", shielding_to_json(result)},
               {"stats", stats_to_json(result.stats)},
-              {"warnings", std::move(warnings)}};
+              {"warnings", warnings_to_json(result.warnings)}};
 }
 
 // The same text as result_to_json(result).dump() and a newline, written element by element:

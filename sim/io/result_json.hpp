@@ -26,6 +26,9 @@ nlohmann::json result_to_json(const engine::Result& result);
 nlohmann::json stats_to_json(const engine::Stats& stats);
 nlohmann::json final_state_to_json(const engine::FinalState& state);
 nlohmann::json warning_to_json(const engine::Warning& warning);
+// The "final_state" and "warnings" arrays of a result, in its order.
+nlohmann::json final_states_to_json(const std::vector<engine::FinalState>& states);
+nlohmann::json warnings_to_json(const std::vector<engine::Warning>& warnings);
 nlohmann::json distribution_to_json(const engine::Distribution& distribution);
 nlohmann::json pane_to_json(const engine::PaneReport& pane);
 // One entry per breakable pane (engine::Result::fracture); an empty array without panes.

@@ -53,13 +53,12 @@ Eigen::Vector4d quaternion_rate(const Quat& q, const Vec3& omega) {
 // of dt W, so turning the body by C keeps the world angular momentum R P exactly (the
 // midpoint Lie-Poisson integrator; Austin, Krishnaprasad and Wang, J. Comput. Phys. 107, 1993).
 // M is found by Newton's method on F(M) = M - P0 - dt/2 M x W(M). Returns the angular velocity
-// turned with, world frame. `cofactor_solve`: each Newton step solves with the Jacobian's
-// adjugate instead of a pivoted LU (a third of the work; the Jacobian is the identity plus a
-// term of order dt |W| <= 0.06, far from singular), and starts from an explicit estimate of the
-// midpoint. Used with body substeps only, so the
-// results of the one-turn-a-step path stay as they were, bit for bit.
-Vec3 free_rotation(const BodyModel& model, const Mat3& rotation, BodyState& state, double dt,
-                   bool cofactor_solve = false) {
+// turned with, world frame. When M = P0 already solves it (a slow spin), nothing more is done;
+// otherwise Newton starts from the explicit estimate of the midpoint and each step solves with
+// the Jacobian's adjugate (a third of the work of a pivoted LU: the Jacobian is the identity plus
+// a term of order dt |W|, far from singular at the turns a step takes; a determinant not safely
+// away from zero falls back to the pivoted LU).
+Vec3 free_rotation(const BodyModel& model, const Mat3& rotation, BodyState& state, double dt) {
   const Vec3 p0 = rotation.transpose().lazyProduct(state.angular_momentum);
   auto inverse_inertia = [&](const Vec3& p) {
     return model.diagonal_inertia ? Vec3(model.inverse_inertia_diagonal.cwiseProduct(p))
@@ -68,32 +67,40 @@ Vec3 free_rotation(const BodyModel& model, const Mat3& rotation, BodyState& stat
   const double h = 0.5 * dt;
   Vec3 m = p0;
   Vec3 w = inverse_inertia(m);
-  if (cofactor_solve) {
-    // Start Newton from the explicit estimate of the midpoint: one iteration fewer.
-    m = p0 + h * p0.cross(w);
-    w = inverse_inertia(m);
-  }
   const double scale = p0.squaredNorm();
-  for (int iteration = 0; iteration < 12; ++iteration) {
-    const Vec3 residual = m - p0 - h * m.cross(w);
-    if (residual.squaredNorm() <= 1e-30 * scale) break;
-    // dF/dM = Id - h ([M]x I^-1 - [W]x), with [a]x b = a x b.
-    Mat3 cross_m, cross_w;
-    cross_m << 0.0, -m.z(), m.y(), m.z(), 0.0, -m.x(), -m.y(), m.x(), 0.0;
-    cross_w << 0.0, -w.z(), w.y(), w.z(), 0.0, -w.x(), -w.y(), w.x(), 0.0;
-    const Mat3 inverse = model.diagonal_inertia ? Mat3(model.inverse_inertia_diagonal.asDiagonal())
-                                                : model.inverse_inertia_body;
-    const Mat3 jacobian = Mat3::Identity() - h * (cross_m * inverse - cross_w);
-    if (cofactor_solve) {
+  Vec3 residual = -h * p0.cross(w);  // F(P0): a slow spin is solved by M = P0 itself
+  if (residual.squaredNorm() > 1e-30 * scale) {
+    m = p0 - residual;  // the explicit estimate of the midpoint: one Newton step fewer
+    w = inverse_inertia(m);
+    for (int iteration = 0; iteration < 12; ++iteration) {
+      residual = m - p0 - h * m.cross(w);
+      if (residual.squaredNorm() <= 1e-30 * scale) break;
+      // dF/dM = Id - h ([M]x I^-1 - [W]x), with [a]x b = a x b.
+      Mat3 jacobian;
+      if (model.diagonal_inertia) {
+        // [M]x D scales the columns of [M]x by D: written out, the same numbers as the dense
+        // product without its products by zero.
+        const Vec3& d = model.inverse_inertia_diagonal;
+        jacobian << 1.0, -h * (-m.z() * d.y() + w.z()), -h * (m.y() * d.z() - w.y()),
+            -h * (m.z() * d.x() - w.z()), 1.0, -h * (-m.x() * d.z() + w.x()),
+            -h * (-m.y() * d.x() + w.y()), -h * (m.x() * d.y() - w.x()), 1.0;
+      } else {
+        Mat3 cross_m, cross_w;
+        cross_m << 0.0, -m.z(), m.y(), m.z(), 0.0, -m.x(), -m.y(), m.x(), 0.0;
+        cross_w << 0.0, -w.z(), w.y(), w.z(), 0.0, -w.x(), -w.y(), w.x(), 0.0;
+        jacobian = Mat3::Identity() - h * (cross_m * model.inverse_inertia_body - cross_w);
+      }
       const Vec3 c0 = jacobian.col(1).cross(jacobian.col(2));
       const Vec3 c1 = jacobian.col(2).cross(jacobian.col(0));
       const Vec3 c2 = jacobian.col(0).cross(jacobian.col(1));
       const double determinant = jacobian.col(0).dot(c0);
-      m -= Vec3(c0.dot(residual), c1.dot(residual), c2.dot(residual)) * (1.0 / determinant);
-    } else {
-      m -= jacobian.partialPivLu().solve(residual);
+      if (std::abs(determinant) > 1e-6) {
+        m -= Vec3(c0.dot(residual), c1.dot(residual), c2.dot(residual)) * (1.0 / determinant);
+      } else {
+        m -= jacobian.partialPivLu().solve(residual);
+      }
+      w = inverse_inertia(m);
     }
-    w = inverse_inertia(m);
   }
   // The Cayley rotation of dt W is the unit quaternion along (1, dt W / 2), in the body frame.
   const Vec3 half_turn = h * w;
@@ -114,12 +121,12 @@ Vec3 free_rotation_substeps(const BodyModel& model, const Mat3& rotation, BodySt
                         : Vec3(model.inverse_inertia_body.lazyProduct(local));
   // At most 10 000 substeps: beyond that a body spins at over 10^4 turns of the limit a step.
   const double turns = std::min(std::ceil(spin.norm() * dt / max_turn_rad), 1e4);
-  if (!(turns > 1.0)) return free_rotation(model, rotation, state, dt, true);
+  if (!(turns > 1.0)) return free_rotation(model, rotation, state, dt);
   const int substeps = static_cast<int>(turns);
   const double h = dt / static_cast<double>(substeps);
-  Vec3 turned = free_rotation(model, rotation, state, h, true);
+  Vec3 turned = free_rotation(model, rotation, state, h);
   for (int k = 1; k < substeps; ++k)
-    turned = free_rotation(model, state.orientation.toRotationMatrix(), state, h, true);
+    turned = free_rotation(model, state.orientation.toRotationMatrix(), state, h);
   return turned;
 }
 

@@ -1768,9 +1768,10 @@ export interface components {
             material: unknown;
         };
         /**
-         * @description A breakable pane (docs/fracture.md). The peak reflected pressure at its centre gives its
-         *     bending stress (Roark table 11.4 case 1a); above the strength it breaks into a crack
-         *     pattern whose growth length is `pattern_scale` x a_c (thesis eq. 5.5), unless given.
+         * @description A breakable pane (docs/fracture.md). The reflected pressure history at its centre gives
+         *     its peak centre stress (`breakage`: a large-deflection plate SDOF, or Roark table 11.4
+         *     case 1a under the peak pressure); above the strength it breaks into a crack pattern whose
+         *     growth length is `pattern_scale` x a_c (thesis eq. 5.5), unless given.
          */
         Fracture: {
             /**
@@ -1824,6 +1825,12 @@ export interface components {
              * @enum {string}
              */
             clearing?: "fragment" | "pane";
+            /**
+             * @description dynamic - the peak centre stress of a large-deflection (membrane) plate SDOF under the pane's pressure history; static - Roark's small-deflection stress under the peak pressure.
+             * @default dynamic
+             * @enum {string}
+             */
+            breakage?: "dynamic" | "static";
             /** @description Bending strength, Pa. */
             strength?: number;
             /** @description K_c, Pa m^0.5. */

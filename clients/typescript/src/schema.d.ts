@@ -1052,10 +1052,11 @@ export interface components {
             max: number;
         };
         /**
-         * @description A breakable pane (docs/fracture.md): the peak reflected pressure at its centre, its
-         *     bending stress (Roark table 11.4 case 1a, simply supported plate), whether it broke and
-         *     at what scale (thesis eq. 5.5), and its fragments, which are bodies `first_body` to
-         *     `first_body + fragment_count - 1`.
+         * @description A breakable pane (docs/fracture.md): the peak reflected pressure at its centre, its peak
+         *     centre stress and deflection by its `fracture.breakage` model (the large-deflection plate
+         *     SDOF under its pressure history, or Roark table 11.4 case 1a under the peak pressure),
+         *     whether it broke and at what scale (thesis eq. 5.5), and its fragments, which are bodies
+         *     `first_body` to `first_body + fragment_count - 1`.
          */
         PaneFracture: {
             name: string;
@@ -1066,7 +1067,7 @@ export interface components {
             stress_pa: number;
             strength_pa: number;
             deflection_m: number;
-            /** @description The plate's deflection stays below half its thickness (the formula's range). */
+            /** @description The plate's (peak) deflection stays below half its thickness (the small-deflection formula's range). */
             small_deflection: boolean;
             /** @description a_c = (1/pi)(K_c/stress)^2 (thesis eq. 5.5); 0 if unbroken. */
             critical_crack_length_m: number;

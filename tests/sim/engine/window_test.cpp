@@ -12,6 +12,7 @@
 #include <gtest/gtest.h>
 
 #include "sim/blast/blast_point.hpp"
+#include "sim/engine/pane_pattern.hpp"
 #include "sim/engine/simulator.hpp"
 #include "sim/fracture/pane.hpp"
 #include "sim/geometry/mesh.hpp"
@@ -367,6 +368,41 @@ TEST(WindowInAWall, AFrameLeftInTheAirIsReported) {
   const Result standing = simulate(wall_with_window(0.02, 10.0, 200.0)).result;
   EXPECT_EQ(floating_count(standing), 0u);
   EXPECT_TRUE(standing.animated.empty());
+}
+
+TEST(PaneCoupling, BreakingPressureAndPatternUseOneStressForBothModels) {
+  // `brisance fracture` and a job judge a pane with the same function: just above the breaking
+  // pressure of a pulse shape the pane breaks, just below it does not, for either model; the
+  // static model's breaking pressure does not depend on the pulse, the dynamic one's does.
+  const PaneSize pane{1.2, 0.9, 0.006, 2500.0};
+  const auto triangle = [](double peak_pa, double duration_s) {
+    PaneLoad load;
+    load.peak_pressure_pa = peak_pa;
+    load.history.components.push_back(response::pulse_component(blast::make_pulse(
+        blast::PulseShape::triangle_same_period, peak_pa, duration_s, 0.5 * peak_pa * duration_s)));
+    return load;
+  };
+  double dynamic_short = 0.0;
+  for (const auto model :
+       {scene::FractureSpec::Breakage::static_plate, scene::FractureSpec::Breakage::dynamic}) {
+    scene::FractureSpec spec;
+    spec.breakage = model;
+    std::vector<double> breaking;
+    for (const double duration_s : {0.002, 0.2}) {
+      const double p = breaking_pressure_pa(spec, pane, triangle(1e3, duration_s));
+      breaking.push_back(p);
+      EXPECT_TRUE(pane_pattern(spec, pane, triangle(1.002 * p, duration_s), 1).response.breaks);
+      EXPECT_FALSE(pane_pattern(spec, pane, triangle(0.997 * p, duration_s), 1).response.breaks);
+    }
+    if (model == scene::FractureSpec::Breakage::static_plate) {
+      EXPECT_EQ(breaking[0], breaking[1]);
+    } else {
+      // A short pulse (t_d / T about 0.07) needs more pressure than a long one (t_d/T about 7).
+      EXPECT_GT(breaking[0], 3.0 * breaking[1]);
+      dynamic_short = breaking[0];
+    }
+  }
+  EXPECT_GT(dynamic_short, 0.0);
 }
 
 }  // namespace

@@ -217,6 +217,7 @@ PlateSdofResult solve_plate(const PlateModel& model, const PressureLoad& load,
     while (t < seg_end) {
       if (total >= options.max_steps) {
         ++result.warnings;
+        result.peak_stress_pa = model.centre_stress_pa(result.peak_deflection_m);
         return result;
       }
       bool last = false;
@@ -249,6 +250,7 @@ PlateSdofResult solve_plate(const PlateModel& model, const PressureLoad& load,
       ++total;
       if (!std::isfinite(w_new) || !std::isfinite(v_new)) {
         ++result.warnings;
+        result.peak_stress_pa = model.centre_stress_pa(result.peak_deflection_m);
         return result;
       }
       const double grow = err > 0.0 ? 0.9 * std::pow(err, -0.2) : 5.0;

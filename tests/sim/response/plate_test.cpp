@@ -229,6 +229,16 @@ TEST(Plate, PeakStressConvergesWithTheTolerance) {
   EXPECT_GT(b.time_to_peak_s, 0.004);  // nothing moves before the arrival
 }
 
+TEST(Plate, TheStepCapIsAWarningAndKeepsThePeakSoFar) {
+  const PlateModel m = plate_model(window_pane());
+  PlateSolveOptions options;
+  options.max_steps = 20;
+  const PlateSdofResult r = solve_plate(m, friedlander(80e3, 0.007, 0.25 * 80e3 * 0.007), options);
+  EXPECT_EQ(r.warnings, 1u);
+  EXPECT_GT(r.peak_deflection_m, 0.0);
+  EXPECT_EQ(r.peak_stress_pa, m.centre_stress_pa(r.peak_deflection_m));
+}
+
 TEST(Plate, FactorsAreBiggsTwoWayRowsInterpolated) {
   PlateSpec s = square_pane();
   PlateModel m = plate_model(s);

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdint>
 #include <fstream>
+#include <optional>
 #include <ostream>
 #include <stdexcept>
 #include <string>
@@ -12,6 +13,7 @@
 
 #include "cli/commands.hpp"
 #include "cli/text.hpp"
+#include "sim/blast/pulse.hpp"
 #include "sim/engine/pane_pattern.hpp"
 #include "sim/fracture/fragments.hpp"
 
@@ -21,7 +23,9 @@ namespace {
 
 constexpr std::string_view kHelp =
     "usage: brisance fracture --width W --height H [--thickness T]\n"
-    "                         [--pressure-kpa P | --growth-length A_C] [--branch-angle-deg A]\n"
+    "                         [--pressure-kpa P | --growth-length A_C] [--duration-ms D]\n"
+    "                         [--impulse-kpa-ms I] [--breakage dynamic|static] [--branch-angle-deg "
+    "A]\n"
     "                         [--angle-variance-deg V] [--wiggle-prob P] [--wiggle-deg D]\n"
     "                         [--grid N] [--initial-crack L] [--seed S]\n"
     "                         -o pattern.svg|pattern.json\n"
@@ -37,6 +41,14 @@ constexpr std::string_view kHelp =
     "5.5);\n"
     "                           default: the pressure that just breaks the pane (coarsest "
     "pattern)\n"
+    "  --duration-ms D          positive duration of the reflected pulse, ms: the dynamic plate\n"
+    "                           model (fracture.breakage \"dynamic\", the default) needs the "
+    "pulse,\n"
+    "                           not only its peak ('brisance blast' gives all three numbers)\n"
+    "  --impulse-kpa-ms I       its impulse, kPa ms: a Friedlander pulse fitted to it (what a job\n"
+    "                           uses); without it a triangle of duration D\n"
+    "  --breakage MODEL         dynamic (default: large-deflection plate SDOF under the pulse) or\n"
+    "                           static (Roark's small-deflection stress under the peak pressure)\n"
     "  --growth-length A_C      crack growth between forks, m, instead (fracture.growth_length)\n"
     "  --branch-angle-deg A     angle between the two branches of a fork (default 25)\n"
     "  --angle-variance-deg V   forks open A +- V/2, uniform (default 34.5)\n"
@@ -58,6 +70,7 @@ struct Plan {
   double thickness_m = 0.006;
   double pressure_pa = 0.0;
   bool pressure_given = false;
+  bool dynamic = true;  // the breakage model the stress came from
   engine::PanePattern pattern;
 };
 
@@ -101,6 +114,30 @@ Plan parse(const ParsedFlags& flags) {
     flags.fail(text::printf("--grid must be a whole number of cells from 4 to %d, got %g",
                             fracture::FractureParams::kMaxGridCells, grid));
   spec.grid = static_cast<int>(grid);
+  if (const auto model = flags.value("breakage")) {
+    if (*model == "static")
+      spec.breakage = scene::FractureSpec::Breakage::static_plate;
+    else if (*model != "dynamic")
+      flags.fail("--breakage must be dynamic or static, got '" + std::string(*model) + "'");
+  }
+  // The reflected pulse: a triangle of --duration-ms, or the Friedlander pulse fitted to
+  // --impulse-kpa-ms (what a job builds, blast::make_pulse with the same three numbers).
+  std::optional<double> duration_s;
+  if (flags.has("duration-ms")) {
+    duration_s = 1e-3 * flag_number(flags, "duration-ms", 0.0);
+    if (!(*duration_s > 0.0) || !std::isfinite(*duration_s) || *duration_s > 10.0)
+      flags.fail(text::printf("--duration-ms must be greater than 0 and at most 10000, got %g",
+                              *duration_s * 1e3));
+  }
+  std::optional<double> impulse_pa_s;
+  if (flags.has("impulse-kpa-ms")) {
+    impulse_pa_s = flag_number(flags, "impulse-kpa-ms", 0.0);  // kPa ms = Pa s
+    if (!(*impulse_pa_s > 0.0) || !std::isfinite(*impulse_pa_s))
+      flags.fail(text::printf("--impulse-kpa-ms must be greater than 0, got %g", *impulse_pa_s));
+    if (!duration_s) flags.fail("--impulse-kpa-ms needs --duration-ms");
+    if (!flags.has("pressure-kpa"))
+      flags.fail("--impulse-kpa-ms needs --pressure-kpa (the pulse's peak)");
+  }
   std::uint64_t seed = 1;
   if (const auto text = flags.value("seed")) {
     const char* end = text->data() + text->size();
@@ -114,14 +151,38 @@ Plan parse(const ParsedFlags& flags) {
     if (!(plan.pressure_pa > 0.0) || !std::isfinite(plan.pressure_pa))
       flags.fail(
           text::printf("--pressure-kpa must be greater than 0, got %g", plan.pressure_pa / 1e3));
-  } else {
-    plan.pressure_pa = engine::breaking_pressure_pa(spec, width, height, plan.thickness_m);
   }
-  plan.pattern =
-      engine::pane_pattern(spec, width, height, plan.thickness_m, plan.pressure_pa, seed);
+  // The dynamic model needs the pulse, not only its peak; a given growth length needs no stress
+  // (the one reported is then the static one). Reported after the other flags are checked.
+  const bool missing_pulse = spec.breakage == scene::FractureSpec::Breakage::dynamic &&
+                             !duration_s && !flags.has("growth-length");
+  if (!duration_s) spec.breakage = scene::FractureSpec::Breakage::static_plate;
+  plan.dynamic = spec.breakage == scene::FractureSpec::Breakage::dynamic;
+  const auto load_at = [&](double peak_pa) {
+    engine::PaneLoad load;
+    load.peak_pressure_pa = peak_pa;
+    if (duration_s)
+      load.history.components.push_back(response::pulse_component(
+          impulse_pa_s ? blast::make_pulse(blast::PulseShape::friedlander, peak_pa, *duration_s,
+                                           *impulse_pa_s)
+                       : blast::make_pulse(blast::PulseShape::triangle_same_period, peak_pa,
+                                           *duration_s, 0.5 * peak_pa * *duration_s)));
+    return load;
+  };
+  const engine::PaneSize pane{width, height, plan.thickness_m, 2500.0};  // annealed glass
+  if (!plan.pressure_given) {
+    scene::FractureSpec by_stress = spec;
+    by_stress.trigger = scene::FractureSpec::Trigger::automatic;
+    plan.pressure_pa = engine::breaking_pressure_pa(by_stress, pane, load_at(1e3));
+  }
+  plan.pattern = engine::pane_pattern(spec, pane, load_at(plan.pressure_pa), seed);
   fracture::FractureParams& p = plan.pattern.params;
   p.initial.length_m = flag_number(flags, "initial-crack", p.initial.length_m);
   if (const auto problem = fracture::validate(p)) flags.fail(*problem);
+  if (missing_pulse)
+    flags.fail(
+        "--duration-ms is required with --breakage dynamic (the reflected pulse's positive "
+        "duration; 'brisance blast' gives it), or use --breakage static");
   return plan;
 }
 
@@ -133,6 +194,7 @@ nlohmann::ordered_json to_json(const Plan& plan, const fracture::FracturePattern
   out["thickness"] = plan.thickness_m;
   out["pressure_kpa"] = plan.pressure_pa / 1e3;
   out["stress_mpa"] = plan.pattern.response.plate.stress_pa / 1e6;
+  out["breakage"] = plan.dynamic ? "dynamic" : "static";
   out["seed"] = p.seed;
   out["grid"] = p.grid_x;
   out["initial_crack"] = p.initial.length_m;
@@ -190,6 +252,9 @@ int run_fracture(const Args& args, std::ostream& out) {
                            {"growth-length"},
                            {"thickness"},
                            {"pressure-kpa"},
+                           {"duration-ms"},
+                           {"impulse-kpa-ms"},
+                           {"breakage"},
                            {"seed"},
                            {"output", true, "o"},
                            {"help", false, "h"}});

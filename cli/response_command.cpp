@@ -45,16 +45,24 @@ constexpr std::string_view kResponseHelp =
 
 constexpr std::string_view kPiHelp =
     "usage: brisance pi --element ELEMENT.json [--ductility MU | --rotation-deg T]\n"
-    "                   [--points N] [-o pi.svg|pi.json]\n"
+    "                   [--points N] [--diagram pi|wr] [--min-distance-m A] [--max-distance-m B]\n"
+    "                   [--burst air|surface] [--angle-deg A] [-o FILE.svg|FILE.json]\n"
     "\n"
     "Pressure-impulse (P-I) curve of an element for one damage limit: for each of N triangular\n"
     "pulse durations (t_d/T from 0.01 to 100), the peak pressure that just reaches the limit.\n"
+    "With --diagram wr, the charge weight-stand-off (W-R) diagram of the same limit instead: for\n"
+    "each of N stand-offs log-spaced from A to B m (default 1 to 100), the TNT charge whose\n"
+    "reflected Friedlander pulse (at --angle-deg to the normal, default 0) just reaches it.\n"
     "  --element FILE      the element as JSON (scenes/elements/ has examples)\n"
     "  --ductility MU      limit as a ductility ratio, 0 < MU <= 100 (default 1: first yield;\n"
     "                      not for an elastic element)\n"
     "  --rotation-deg T    or as a support rotation, 0 < T <= 45 (needs support.span_m)\n"
     "  --points N          durations in the sweep, 2..100 (default 60)\n"
-    "  -o FILE             write the curve as SVG (log-log, with both asymptotes) or JSON\n"
+    "  --diagram D         pi (default) or wr\n"
+    "  --min-distance-m A, --max-distance-m B  wr: the stand-offs, 0.1 <= A < B <= 10000\n"
+    "  --burst B           wr: air (default) or surface\n"
+    "  --angle-deg A       wr: angle of the wave to the element's normal, [0, 90)\n"
+    "  -o FILE             write the curve as SVG (log-log; P-I with both asymptotes) or JSON\n"
     "                      (the fields of POST /v1/pi); without -o, print a table\n";
 
 // The charge flags of `brisance response`, spelled as the blast calculator's parameters.
@@ -302,17 +310,175 @@ int run_response(const Args& args, std::ostream& out) {
   return kExitOk;
 }
 
+// The W–R diagram, log-log: charge (kg) up against stand-off (m) across.
+std::string wr_svg(const nlohmann::ordered_json& wr) {
+  std::vector<std::pair<double, double>> xy;
+  for (const auto& p : wr["points"])
+    if (!p["charge_kg"].is_null())
+      xy.emplace_back(p["distance_m"].get<double>(), p["charge_kg"].get<double>());
+  constexpr double kW = 640, kH = 440, kLeft = 70, kRight = 20, kTop = 30, kBottom = 50;
+  double x0 = INFINITY, x1 = -INFINITY, y0 = INFINITY, y1 = -INFINITY;
+  for (const auto& [x, y] : xy) {
+    x0 = std::min(x0, std::log10(x)), x1 = std::max(x1, std::log10(x));
+    y0 = std::min(y0, std::log10(y)), y1 = std::max(y1, std::log10(y));
+  }
+  if (xy.empty()) x0 = 0, x1 = 1, y0 = 0, y1 = 1;
+  x0 = std::floor(x0), x1 = std::max(std::ceil(x1), x0 + 1);
+  y0 = std::floor(y0), y1 = std::max(std::ceil(y1), y0 + 1);
+  const auto px = [&](double x) {
+    return kLeft + (std::log10(x) - x0) / (x1 - x0) * (kW - kLeft - kRight);
+  };
+  const auto py = [&](double y) {
+    return kH - kBottom - (std::log10(y) - y0) / (y1 - y0) * (kH - kTop - kBottom);
+  };
+  std::string svg = text::printf(
+      "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"%g\" height=\"%g\" "
+      "viewBox=\"0 0 %g %g\" font-family=\"sans-serif\" font-size=\"12\">\n"
+      "<rect width=\"100%%\" height=\"100%%\" fill=\"white\"/>\n",
+      kW, kH, kW, kH);
+  for (double d = x0; d <= x1; d += 1)
+    svg += text::printf("<text x=\"%.1f\" y=\"%.1f\" text-anchor=\"middle\">1e%g</text>\n",
+                        px(std::pow(10.0, d)), kH - kBottom + 18, d);
+  for (double d = y0; d <= y1; d += 1)
+    svg += text::printf("<text x=\"%.1f\" y=\"%.1f\" text-anchor=\"end\">1e%g</text>\n", kLeft - 6,
+                        py(std::pow(10.0, d)) + 4, d);
+  svg += text::printf(
+      "<text x=\"%.1f\" y=\"%.1f\" text-anchor=\"middle\">stand-off, m</text>\n"
+      "<text x=\"14\" y=\"%.1f\" transform=\"rotate(-90 14 %.1f)\" "
+      "text-anchor=\"middle\">TNT charge, kg</text>\n",
+      0.5 * (kLeft + kW - kRight), kH - 12, 0.5 * (kTop + kH - kBottom),
+      0.5 * (kTop + kH - kBottom));
+  svg += text::printf("<text x=\"%.1f\" y=\"%.1f\">W-R, displacement limit %.4g mm</text>\n", kLeft,
+                      kTop - 10, wr["displacement_limit_m"].get<double>() * 1e3);
+  std::string points;
+  for (const auto& [x, y] : xy)
+    points += text::printf("%.2f,%.2f ", px(x), py(y));
+  svg += "<polyline fill=\"none\" stroke=\"black\" stroke-width=\"2\" points=\"" + points +
+         "\"/>\n</svg>\n";
+  return svg;
+}
+
+void print_wr(std::ostream& out, const nlohmann::ordered_json& wr) {
+  using text::printf;
+  out << printf("W-R diagram, displacement limit %.4g mm",
+                wr["displacement_limit_m"].get<double>() * 1e3);
+  if (!wr["ductility"].is_null()) out << printf(", ductility %.4g", wr["ductility"].get<double>());
+  if (!wr["rotation_deg"].is_null())
+    out << printf(", rotation %.4g deg", wr["rotation_deg"].get<double>());
+  out << printf("\n  %s burst, angle %.4g deg, natural period T %.4g ms\n",
+                wr["burst"].get<std::string>().c_str(), wr["angle_deg"].get<double>(),
+                wr["natural_period_ms"].get<double>());
+  out << "  distance_m    charge_kg   scaled_distance   in_range\n";
+  for (const auto& p : wr["points"]) {
+    if (p["charge_kg"].is_null()) {
+      out << printf("  %10.4g   %10s\n", p["distance_m"].get<double>(), "none");
+      continue;
+    }
+    out << printf("  %10.4g   %10.4g   %15.4g   %s\n", p["distance_m"].get<double>(),
+                  p["charge_kg"].get<double>(), p["scaled_distance_m_kg13"].get<double>(),
+                  p["in_validity_range"].get<bool>() ? "yes" : "no");
+  }
+  if (wr["warnings"].get<std::size_t>() > 0)
+    out << printf(
+        "  WARNING: %zu stand-offs with no charge from 1 g to 1000 t reaching the limit\n",
+        wr["warnings"].get<std::size_t>());
+}
+
+// `brisance pi --diagram wr`: the flags as a POST /v1/pi body, checked by the same reader, so
+// every problem is reported at once under its flag's name.
+int run_wr(const ParsedFlags& flags, const std::optional<std::string>& output, std::ostream& out) {
+  const response::Element element = load_element(flags);
+  // The element came from the file: the body has none, and the reader's complaint about its
+  // absence is dropped below.
+  nlohmann::json body;
+  body["diagram"] = "wr";
+  std::vector<std::string> messages;
+  const auto number = [&](std::string_view flag, const char* key) {
+    if (!flags.has(flag)) return;
+    if (const auto v = flags.number(flag)) body[key] = *v;
+  };
+  number("ductility", "ductility");
+  number("rotation-deg", "rotation_deg");
+  number("points", "points");
+  number("angle-deg", "angle_deg");
+  if (const auto b = flags.value("burst")) body["burst"] = std::string(*b);
+  if (flags.has("min-distance-m") || flags.has("max-distance-m"))
+    body["distances_m"] = {flags.number("min-distance-m").value_or(1.0),
+                           flags.number("max-distance-m").value_or(100.0)};
+  io::PiRequest request;
+  std::vector<io::InputError> errors = io::parse_pi_request(body, request);
+  std::erase_if(errors, [](const io::InputError& e) { return e.pointer.starts_with("/element"); });
+  const auto flag_name = [](const std::string& pointer) -> std::string {
+    if (pointer == "/distances_m") return "--min-distance-m/--max-distance-m";
+    if (pointer == "/rotation_deg") return "--rotation-deg";
+    if (pointer == "/angle_deg") return "--angle-deg";
+    return "--" + pointer.substr(1);
+  };
+  request.element = element;
+  if (errors.empty()) {
+    // The limit against the element itself (the body had none).
+    io::PiLimit limit;
+    limit.ductility = flags.number("ductility");
+    limit.rotation_deg = flags.number("rotation-deg");
+    if (const auto y =
+            io::pi_displacement_limit(element, limit, "--ductility", "--rotation-deg", errors)) {
+      request.displacement_limit_m = *y;
+      if (const auto cost = io::check_wr_cost(response::equivalent_system(element),
+                                              request.wr_query, "/distances_m"))
+        errors.push_back(*cost);
+    }
+    for (io::InputError& e : errors)
+      if (e.pointer.starts_with("/")) e.pointer = flag_name(e.pointer);
+  } else {
+    for (io::InputError& e : errors)
+      e.pointer = flag_name(e.pointer);
+  }
+  for (const io::InputError& e : errors)
+    messages.push_back(e.pointer + " " + e.message);
+  if (!messages.empty()) fail_all(flags, messages);
+  const nlohmann::ordered_json wr =
+      io::wr_json(element, request.displacement_limit_m, request.points, request.wr_query);
+  if (output) {
+    std::ofstream file(*output, std::ios::binary);
+    if (!file) flags.fail("cannot write '" + *output + "'; check the directory exists");
+    if (output->ends_with(".json")) {
+      file << wr.dump(1) << "\n";
+    } else {
+      file << wr_svg(wr);
+    }
+    if (!file) throw std::runtime_error("writing '" + *output + "' failed");
+    out << text::printf("W-R diagram of %zu points written to %s\n", wr["points"].size(),
+                        output->c_str());
+    return kExitOk;
+  }
+  print_wr(out, wr);
+  return kExitOk;
+}
+
 int run_pi(const Args& args, std::ostream& out) {
   const ParsedFlags flags("pi", args,
                           {{"element"},
                            {"ductility"},
                            {"rotation-deg"},
                            {"points"},
+                           {"diagram"},
+                           {"min-distance-m"},
+                           {"max-distance-m"},
+                           {"burst"},
+                           {"angle-deg"},
                            {"output", true, "o"},
                            {"help", false, "h"}});
   if (flags.has("help")) {
     out << kPiHelp;
     return kExitOk;
+  }
+  const auto diagram = flags.value("diagram");
+  if (diagram && *diagram != "pi" && *diagram != "wr")
+    flags.fail("--diagram must be pi or wr, got '" + std::string(*diagram) + "'");
+  const bool wr = diagram && *diagram == "wr";
+  if (!wr) {
+    for (const char* f : {"min-distance-m", "max-distance-m", "burst", "angle-deg"})
+      if (flags.has(f)) flags.fail("--" + std::string(f) + " is for --diagram wr only");
   }
   if (!flags.positional().empty())
     flags.fail("unexpected argument '" + std::string(flags.positional().front()) + "'");
@@ -322,6 +488,7 @@ int run_pi(const Args& args, std::ostream& out) {
     if (!output->ends_with(".svg") && !output->ends_with(".json"))
       flags.fail("-o must end in .svg or .json, got '" + *output + "'");
   }
+  if (wr) return run_wr(flags, output, out);  // checks its flags all at once
   std::size_t points = 60;
   if (const auto n = flags.number("points")) {
     if (!(*n >= io::kMinPiPoints && *n <= io::kMaxPiPoints && std::floor(*n) == *n))

@@ -59,7 +59,11 @@ HttpResponse pressure_impulse(const Context& c) {
   const auto errors = io::parse_pi_request(body, request);
   if (!errors.empty()) return invalid(errors);
   HttpResponse r;
-  r.body = io::pi_json(request.element, request.displacement_limit_m, request.points).dump();
+  r.body = request.wr
+               ? io::wr_json(request.element, request.displacement_limit_m, request.points,
+                             request.wr_query)
+                     .dump()
+               : io::pi_json(request.element, request.displacement_limit_m, request.points).dump();
   return r;
 }
 

@@ -53,6 +53,7 @@ BodySources body_sources(const scene::Scene& scene) {
     charges.push_back({spec.position, blast_charge(spec)});
   bool out_of_range = false;
   bool large_deflection = false;
+  std::size_t solver_warnings = 0;
   for (std::size_t index = 0; index < scene.objects.size(); ++index) {
     const scene::ObjectSpec& object = scene.objects[index];
     if (!object.fracture) {
@@ -60,9 +61,11 @@ BodySources body_sources(const scene::Scene& scene) {
       continue;
     }
     // Breakable panes (DESIGN.md decision 9): a broken pane's fragments take its place.
-    PaneReport report =
-        break_pane(object, index, charges, scene.simulation, sources.bodies, out_of_range);
-    large_deflection = large_deflection || !report.small_deflection;
+    PaneReport report = break_pane(object, index, charges, scene.simulation, sources.bodies,
+                                   out_of_range, solver_warnings);
+    // Only the static model's stress is an upper estimate beyond small deflections.
+    if (object.fracture->breakage == scene::FractureSpec::Breakage::static_plate)
+      large_deflection = large_deflection || !report.small_deflection;
     sources.reports.push_back(std::move(report));
   }
   if (out_of_range) sources.warnings.emplace_back("blast_out_of_range", kBlastOutOfRangeMessage);
@@ -71,7 +74,13 @@ BodySources body_sources(const scene::Scene& scene) {
         "pane_large_deflection",
         "a pane's small-deflection bending stress (Roark table 11.4) implies a deflection beyond "
         "half its thickness, where membrane action carries part of the load: its stress, and "
-        "with it the fracture scale, is an upper estimate (docs/fracture.md)");
+        "with it the fracture scale, is an upper estimate (docs/fracture.md; fracture.breakage "
+        "\"dynamic\" takes membrane action into account)");
+  if (solver_warnings > 0)
+    sources.warnings.emplace_back(
+        "pane_response_incomplete",
+        "the dynamic plate model of a pane met a non-finite state or its step cap: its peak "
+        "stress covers only part of the load (docs/fracture.md)");
   return sources;
 }
 

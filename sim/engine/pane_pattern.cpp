@@ -1,12 +1,49 @@
 #include "sim/engine/pane_pattern.hpp"
 
 #include <algorithm>
+#include <cassert>
 #include <cmath>
+
+#include "sim/response/plate.hpp"
 
 namespace brisance::engine {
 
-PanePattern pane_pattern(const scene::FractureSpec& spec, double width_m, double height_m,
-                         double thickness_m, double peak_pressure_pa, std::uint64_t seed) {
+fracture::PlateResponse pane_stress(const scene::FractureSpec& spec, const PaneSize& pane,
+                                    const PaneLoad& load, double load_scale,
+                                    std::size_t* solver_warnings) {
+  if (spec.breakage == scene::FractureSpec::Breakage::static_plate)
+    return fracture::simply_supported_plate(pane.width_m, pane.height_m, pane.thickness_m,
+                                            load_scale * load.peak_pressure_pa,
+                                            spec.youngs_modulus_pa);
+  // The dynamic plate: Roark's small-deflection coefficients at this aspect ratio fix its
+  // stiffness and bending stress (sim/response/plate.hpp); Poisson's ratio 0.3 as that table.
+  const double aspect =
+      std::max(pane.width_m, pane.height_m) / std::min(pane.width_m, pane.height_m);
+  response::PlateSpec plate;
+  plate.width_m = pane.width_m;
+  plate.height_m = pane.height_m;
+  plate.thickness_m = pane.thickness_m;
+  plate.youngs_modulus_pa = spec.youngs_modulus_pa;
+  plate.density_kg_m3 = pane.density_kg_m3;
+  plate.small_deflection_alpha = fracture::roark_alpha(aspect);
+  plate.small_deflection_beta = fracture::roark_beta(aspect);
+  response::PlateSolveOptions options;
+  options.load_scale = load_scale;
+  const response::PlateSdofResult r =
+      response::solve_plate(response::plate_model(plate), load.history, options);
+  if (solver_warnings) *solver_warnings += r.warnings;
+  fracture::PlateResponse out;
+  out.stress_pa = r.peak_stress_pa;
+  out.deflection_m = r.peak_deflection_m;
+  out.small_deflection = r.peak_deflection_m <= 0.5 * pane.thickness_m;
+  return out;
+}
+
+PanePattern pane_pattern(const scene::FractureSpec& spec, const PaneSize& pane,
+                         const PaneLoad& load, std::uint64_t seed) {
+  const double width_m = pane.width_m;
+  const double height_m = pane.height_m;
+  const double thickness_m = pane.thickness_m;
   // The bit bucket's cell; forks closer than two cells cannot be told apart on the grid, and a
   // growth length beyond half the pane gives no fork at all.
   const double longer = std::max(width_m, height_m);
@@ -19,13 +56,14 @@ PanePattern pane_pattern(const scene::FractureSpec& spec, double width_m, double
   input.youngs_modulus_pa = spec.youngs_modulus_pa;
   input.fracture_toughness_pa_sqrt_m = spec.fracture_toughness_pa_sqrt_m;
   input.strength_pa = spec.strength_pa;
-  input.pressure_pa = peak_pressure_pa;
+  input.pressure_pa = load.peak_pressure_pa;
   input.pattern_scale = spec.pattern_scale;
   input.min_growth_length_m = 2.0 * cell;
   input.max_growth_length_m = 0.5 * shorter;
 
   PanePattern out;
-  out.response = fracture::pane_fracture(input);
+  out.response =
+      fracture::pane_fracture(input, pane_stress(spec, pane, load, 1.0, &out.solver_warnings));
   out.forced = spec.trigger == scene::FractureSpec::Trigger::always && !out.response.breaks;
   if (!out.response.breaks && !out.forced) return out;
 
@@ -63,21 +101,22 @@ PanePattern pane_pattern(const scene::FractureSpec& spec, double width_m, double
   return out;
 }
 
-double breaking_pressure_pa(const scene::FractureSpec& spec, double width_m, double height_m,
-                            double thickness_m) {
-  scene::FractureSpec by_stress = spec;
-  by_stress.trigger = scene::FractureSpec::Trigger::automatic;
-  const auto breaks = [&](double pressure_pa) {
-    return pane_pattern(by_stress, width_m, height_m, thickness_m, pressure_pa, 1).response.breaks;
+double breaking_pressure_pa(const scene::FractureSpec& spec, const PaneSize& pane,
+                            const PaneLoad& load) {
+  assert(load.peak_pressure_pa > 0.0);
+  const auto breaks = [&](double scale) {
+    return pane_stress(spec, pane, load, scale).stress_pa > spec.strength_pa;
   };
-  double low = 0.0, high = 1e3;
-  while (!breaks(high) && high < 1e12)
+  // Scale factors on the load; the stress grows with it (static: linearly; dynamic: the peak of a
+  // hardening oscillator from rest grows with the load's amplitude).
+  double low = 0.0, high = 1e3 / load.peak_pressure_pa;
+  while (!breaks(high) && high * load.peak_pressure_pa < 1e12)
     high *= 2.0;
   while (high - low > 1e-3 * high) {
     const double mid = 0.5 * (low + high);
     (breaks(mid) ? high : low) = mid;
   }
-  return high;
+  return high * load.peak_pressure_pa;
 }
 
 }  // namespace brisance::engine

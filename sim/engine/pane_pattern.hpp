@@ -1,16 +1,35 @@
-// sim/engine/pane_pattern: how a breakable pane of a scene becomes a crack pattern — its bending
-// stress under the peak pressure, whether it breaks, the growth length (thesis eq. 5.5, or the
+// sim/engine/pane_pattern: how a breakable pane of a scene becomes a crack pattern — its stress
+// under the blast (the dynamic large-deflection plate SDOF of sim/response/plate under the pane's
+// pressure history, or Roark's static small-deflection stress under its peak pressure, as the
+// scene's fracture.breakage says), whether it breaks, the growth length (thesis eq. 5.5, or the
 // one given) and the crack-tree parameters. One function, so that `brisance fracture` previews
-// exactly the pattern a job grows for the same pane, pressure and seed.
+// exactly the pattern a job grows for the same pane, load and seed. The coupling of
+// sim/response and sim/fracture lives here: neither includes the other.
 #pragma once
 
 #include <cstdint>
 
 #include "sim/fracture/crack_tree.hpp"
 #include "sim/fracture/pane.hpp"
+#include "sim/response/sdof.hpp"
 #include "sim/scene/scene.hpp"
 
 namespace brisance::engine {
+
+// The pane: its size and density (the dynamic model's mass).
+struct PaneSize {
+  double width_m = 1.0;
+  double height_m = 1.0;
+  double thickness_m = 0.006;
+  double density_kg_m3 = 2500.0;
+};
+
+// The load on the pane's face: the largest peak pressure (what the static model takes) and the
+// summed pressure history, time since detonation (what the dynamic model integrates).
+struct PaneLoad {
+  double peak_pressure_pa = 0.0;
+  response::PressureLoad history;
+};
 
 struct PanePattern {
   fracture::PaneFracture response;  // plate stress, breaks, a_c, eq. 5.5's growth length
@@ -18,18 +37,26 @@ struct PanePattern {
   double growth_length_m = 0.0;     // what the pattern is grown with
   bool growth_length_given = false;
   bool growth_length_clamped = false;
+  std::size_t solver_warnings = 0;  // the dynamic model's (non-finite state, step cap)
   fracture::FractureParams params;  // valid when the pane breaks (or is forced)
 };
 
-// The pane `spec` of width x height x thickness m under `peak_pressure_pa` on its face, its
-// pattern grown from `seed`. The parameters are not validated here: a scene's spec was, and the
-// CLI checks fracture::validate(params) with the flags it took.
-PanePattern pane_pattern(const scene::FractureSpec& spec, double width_m, double height_m,
-                         double thickness_m, double peak_pressure_pa, std::uint64_t seed);
+// The pane's peak centre stress and deflection under `load` scaled by `load_scale`, by the
+// spec's breakage model. `solver_warnings`, if given, counts the dynamic solver's warnings.
+fracture::PlateResponse pane_stress(const scene::FractureSpec& spec, const PaneSize& pane,
+                                    const PaneLoad& load, double load_scale = 1.0,
+                                    std::size_t* solver_warnings = nullptr);
 
-// The lowest peak pressure that breaks the pane by its stress (bisection on pane_pattern's
-// stress test, to 0.1 %), Pa.
-double breaking_pressure_pa(const scene::FractureSpec& spec, double width_m, double height_m,
-                            double thickness_m);
+// The pane `spec` of `pane`'s size under `load`, its pattern grown from `seed`. The parameters
+// are not validated here: a scene's spec was, and the CLI checks fracture::validate(params) with
+// the flags it took.
+PanePattern pane_pattern(const scene::FractureSpec& spec, const PaneSize& pane,
+                         const PaneLoad& load, std::uint64_t seed);
+
+// The lowest peak pressure that breaks the pane by its stress with `load`'s time shape: the load
+// is scaled (bisection on pane_stress to 0.1 %) and the scaled peak returned, Pa. For the static
+// model the shape does not matter. load.peak_pressure_pa must be > 0.
+double breaking_pressure_pa(const scene::FractureSpec& spec, const PaneSize& pane,
+                            const PaneLoad& load);
 
 }  // namespace brisance::engine

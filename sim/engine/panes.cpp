@@ -10,6 +10,7 @@
 #include "sim/fracture/fragments.hpp"
 #include "sim/fracture/pane.hpp"
 #include "sim/geometry/polygon.hpp"
+#include "sim/response/sdof.hpp"
 
 namespace brisance::engine {
 
@@ -27,12 +28,17 @@ std::uint64_t mix_seed(std::uint64_t seed, std::uint64_t index) {
   return z ^ (z >> 31);
 }
 
-// The peak reflected overpressure on the face of the pane that faces each charge, at the pane's
-// centre, the largest over the charges (peaks of several charges rarely coincide; they are not
-// added). The plate formula takes a uniform pressure, so the centre's value stands for the pane.
-double peak_pressure_at(const Vec3& centre, const Vec3& normal,
-                        const std::vector<ChargeModel>& charges, bool& out_of_range) {
-  double peak = 0.0;
+// The load on the face of the pane that faces each charge, at the pane's centre: the reflected
+// pulse (Kingery–Bulmash, oblique reflection at the angle of incidence), arriving at the curves'
+// arrival time, summed over the charges; and the largest of their peaks (the static model's
+// load: peaks of several charges rarely coincide, so they are not added). The plate models take
+// a uniform pressure, so the centre's value stands for the pane. No clearing: the surfaces a pane
+// clears from are found by a later prepare stage, so the pane's breakage takes the uncleared
+// reflected pulse (an upper estimate of its load).
+PaneLoad pane_load_at(const Vec3& centre, const Vec3& normal,
+                      const std::vector<ChargeModel>& charges, blast::PulseShape shape,
+                      bool& out_of_range) {
+  PaneLoad load;
   for (const ChargeModel& c : charges) {
     const Vec3 d = centre - c.position;
     const double distance = std::max(d.norm(), 1e-3);
@@ -42,9 +48,22 @@ double peak_pressure_at(const Vec3& centre, const Vec3& normal,
         point.incident_overpressure_pa, point.incident_impulse_pa_s,
         point.reflected_overpressure_pa, point.reflected_impulse_pa_s, std::acos(cos_incidence));
     out_of_range = out_of_range || !point.in_validity_range;
-    peak = std::max(peak, reflection.overpressure_pa);
+    load.peak_pressure_pa = std::max(load.peak_pressure_pa, reflection.overpressure_pa);
+    if (reflection.overpressure_pa > 0.0 && point.positive_duration_s > 0.0 &&
+        reflection.impulse_pa_s > 0.0)
+      load.history.components.push_back(response::pulse_component(
+          blast::make_pulse(shape, reflection.overpressure_pa, point.positive_duration_s,
+                            reflection.impulse_pa_s),
+          point.arrival_time_s));
   }
-  return peak;
+  // Only the arrivals' differences matter to the pane's peak stress: its clock starts at the
+  // first, as `brisance fracture`'s pulse does, so one charge gives the CLI's numbers exactly.
+  double first = INFINITY;
+  for (const response::LoadComponent& c : load.history.components)
+    first = std::min(first, c.arrival_s);
+  for (response::LoadComponent& c : load.history.components)
+    c.arrival_s -= first;
+  return load;
 }
 
 double earliest_arrival_s(const Vec3& point, const std::vector<ChargeModel>& charges) {
@@ -117,7 +136,7 @@ void fragment_panels(const geometry::Polygon& polygon, double thickness, double 
 PaneReport break_pane(const scene::ObjectSpec& object, std::size_t index,
                       const std::vector<ChargeModel>& charges,
                       const scene::SimulationSpec& simulation, std::vector<BodySource>& out,
-                      bool& out_of_range) {
+                      bool& out_of_range, std::size_t& solver_warnings) {
   const scene::FractureSpec& spec = *object.fracture;
   assert(object.shape == scene::ShapeType::box);
   const double width = object.box_size_m.x();
@@ -129,10 +148,13 @@ PaneReport break_pane(const scene::ObjectSpec& object, std::size_t index,
   PaneReport report;
   report.name = object.name;
   report.strength_pa = spec.strength_pa;
-  report.peak_pressure_pa = peak_pressure_at(object.position, normal, charges, out_of_range);
+  const PaneLoad load =
+      pane_load_at(object.position, normal, charges, simulation.pulse_shape, out_of_range);
+  report.peak_pressure_pa = load.peak_pressure_pa;
+  const PaneSize size{width, height, thickness, object.mass_kg / (width * height * thickness)};
   const PanePattern pattern_plan =
-      pane_pattern(spec, width, height, thickness, report.peak_pressure_pa,
-                   spec.seed ? *spec.seed : mix_seed(simulation.seed, index));
+      pane_pattern(spec, size, load, spec.seed ? *spec.seed : mix_seed(simulation.seed, index));
+  solver_warnings += pattern_plan.solver_warnings;
   const fracture::PaneFracture& response = pattern_plan.response;
   report.stress_pa = response.plate.stress_pa;
   report.deflection_m = response.plate.deflection_m;

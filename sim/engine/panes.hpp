@@ -1,9 +1,9 @@
 // sim/engine/panes (private to the engine): the prepare stage that breaks one breakable pane
-// (DESIGN.md decision 9, thesis ch. 6). The peak reflected pressure at its centre gives its
-// bending stress (Roark table 11.4 case 1a, sim/fracture/pane); below the strength the pane stays
-// one body and no fracture work is done (decision 10); above it a crack pattern is grown at the
-// scale of thesis eq. 5.5 and every fragment becomes a body source: a prism with closed-form mass
-// properties, at least five load panels per face, a hold and the time the wave reaches it.
+// (DESIGN.md decision 9, thesis ch. 6). The reflected pressure at its centre gives its peak
+// stress (pane_pattern: the dynamic plate SDOF, or Roark's static stress); below the strength the
+// pane stays one body and no fracture work is done (decision 10); above it a crack pattern is grown
+// at the scale of thesis eq. 5.5 and every fragment becomes a body source: a prism with closed-form
+// mass properties, at least five load panels per face, a hold and the time the wave reaches it.
 #pragma once
 
 #include <cstdint>
@@ -18,10 +18,11 @@ BodySource object_source(const scene::ObjectSpec& object, double max_panel_area_
 
 // Breaks the pane `object` (scene object `index`), appending its body sources
 // to `out`: the fragments (named "<pane>/f<k>"), or the pane itself unbroken (anchored when
-// framed). Sets `out_of_range` when a charge's blast point lies outside the fitted range.
+// framed). Sets `out_of_range` when a charge's blast point lies outside the fitted range and
+// adds the dynamic plate solver's warnings to `solver_warnings`.
 PaneReport break_pane(const scene::ObjectSpec& object, std::size_t index,
                       const std::vector<ChargeModel>& charges,
                       const scene::SimulationSpec& simulation, std::vector<BodySource>& out,
-                      bool& out_of_range);
+                      bool& out_of_range, std::size_t& solver_warnings);
 
 }  // namespace brisance::engine

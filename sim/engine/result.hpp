@@ -81,10 +81,10 @@ struct PaneReport {
   bool broken = false;
   bool forced = false;            // fracture.break = always: broken whatever the stress
   double peak_pressure_pa = 0.0;  // peak reflected overpressure at the pane's centre
-  double stress_pa = 0.0;         // Roark table 11.4 case 1a bending stress under it
+  double stress_pa = 0.0;         // peak centre stress by fracture.breakage (docs/fracture.md)
   double strength_pa = 0.0;
-  double deflection_m = 0.0;             // the same plate's centre deflection
-  bool small_deflection = true;          // deflection <= thickness / 2: the plate formula applies
+  double deflection_m = 0.0;             // the same model's (peak) centre deflection
+  bool small_deflection = true;          // deflection <= thickness / 2
   double critical_crack_length_m = 0.0;  // a_c of thesis eq. 5.5 at that stress (0: unbroken)
   double growth_length_m = 0.0;          // the crack pattern's a_c (0: unbroken)
   bool growth_length_given = false;      // set by fracture.growth_length

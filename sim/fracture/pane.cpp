@@ -74,9 +74,14 @@ PlateResponse simply_supported_plate(double width_m, double height_m, double thi
 }
 
 PaneFracture pane_fracture(const PaneFractureInput& input) {
+  return pane_fracture(input,
+                       simply_supported_plate(input.width_m, input.height_m, input.thickness_m,
+                                              input.pressure_pa, input.youngs_modulus_pa));
+}
+
+PaneFracture pane_fracture(const PaneFractureInput& input, const PlateResponse& plate) {
   PaneFracture result;
-  result.plate = simply_supported_plate(input.width_m, input.height_m, input.thickness_m,
-                                        input.pressure_pa, input.youngs_modulus_pa);
+  result.plate = plate;
   result.breaks = result.plate.stress_pa > input.strength_pa;
   if (!result.breaks) return result;
   result.critical_crack_length_m =

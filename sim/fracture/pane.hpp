@@ -55,7 +55,11 @@ struct PaneFracture {
   double growth_length_m = 0.0;
   bool clamped = false;  // the growth length hit a clamp: the pressure no longer changes it
 };
+// Judged by the static small-deflection plate above under input.pressure_pa.
 PaneFracture pane_fracture(const PaneFractureInput& input);
+// Judged by a plate response found elsewhere (the engine's dynamic plate model): its stress
+// against the strength, and eq. 5.5's scale at that stress.
+PaneFracture pane_fracture(const PaneFractureInput& input, const PlateResponse& plate);
 
 // Empirical glass fragments of window panes (thesis §2.11, cited from [4]), SI units:
 // mean frontal area A' (eq. 2.45), m^2, and mean velocity v (eq. 2.46), m/s, for the peak

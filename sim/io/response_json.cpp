@@ -295,6 +295,88 @@ nlohmann::ordered_json pi_json(const response::Element& element, double displace
   return out;
 }
 
+namespace {
+
+// Ductility and rotation of a displacement limit, as the P–I and W–R answers give them.
+void limit_fields(const response::Element& element, const response::SdofSystem& system,
+                  double displacement_limit_m, nlohmann::ordered_json& out) {
+  out["displacement_limit_m"] = displacement_limit_m;
+  const double elastic_limit = system.elastic_limit_m();
+  out["ductility"] = std::isfinite(elastic_limit)
+                         ? nlohmann::ordered_json(displacement_limit_m / elastic_limit)
+                         : nlohmann::ordered_json(nullptr);
+  out["rotation_deg"] =
+      element.span_m
+          ? nlohmann::ordered_json(std::atan(displacement_limit_m / (0.5 * *element.span_m)) *
+                                   180.0 / std::numbers::pi)
+          : nlohmann::ordered_json(nullptr);
+  out["natural_period_ms"] = system.natural_period_s() * 1e3;
+}
+
+blast::Charge wr_charge(const WrQuery& query, double mass_kg) {
+  blast::Charge charge;
+  charge.tnt_equivalent_kg = mass_kg;
+  charge.burst = query.burst;
+  return charge;
+}
+
+}  // namespace
+
+std::optional<InputError> check_wr_cost(const response::SdofSystem& system, const WrQuery& query,
+                                        std::string_view pointer) {
+  const blast::BlastPoint far =
+      blast::blast_point(wr_charge(query, kMaxWrChargeKg), query.max_distance_m);
+  const double period_s = system.natural_period_s();
+  const double end_s = far.arrival_time_s + far.positive_duration_s;
+  if (!(end_s <= kMaxLoadPeriods * period_s)) {
+    return InputError{std::string(pointer),
+                      "reaches stand-offs where the largest charge searched (" +
+                          shown(kMaxWrChargeKg) + " kg) gives a load ending " + shown(end_s * 1e3) +
+                          " ms after detonation, more than " + shown(kMaxLoadPeriods) +
+                          " natural periods of the element (" + shown(period_s * 1e3) +
+                          " ms): bring the largest stand-off closer"};
+  }
+  return std::nullopt;
+}
+
+nlohmann::ordered_json wr_json(const response::Element& element, double displacement_limit_m,
+                               std::size_t points, const WrQuery& query) {
+  const response::SdofSystem system = response::equivalent_system(element);
+  std::vector<double> distances(points);
+  for (std::size_t k = 0; k < points; ++k) {
+    const double s = points > 1 ? static_cast<double>(k) / static_cast<double>(points - 1) : 0.0;
+    distances[k] = query.min_distance_m * std::pow(query.max_distance_m / query.min_distance_m, s);
+  }
+  response::WrOptions options;
+  options.charge = wr_charge(query, 1.0);
+  options.angle_rad = query.angle_deg * std::numbers::pi / 180.0;
+  options.min_charge_kg = kMinWrChargeKg;
+  options.max_charge_kg = kMaxWrChargeKg;
+  const std::vector<response::WrPoint> curve =
+      response::wr_curve(system, displacement_limit_m, distances, options);
+  nlohmann::ordered_json out;
+  out["diagram"] = "wr";
+  limit_fields(element, system, displacement_limit_m, out);
+  out["burst"] = query.burst == blast::Burst::surface ? "surface" : "air";
+  out["angle_deg"] = query.angle_deg;
+  nlohmann::ordered_json list = nlohmann::ordered_json::array();
+  std::size_t warnings = 0;
+  for (const response::WrPoint& p : curve) {
+    const bool found = p.charge_kg > 0.0;
+    warnings += found ? 0 : 1;
+    list.push_back(
+        {{"distance_m", p.distance_m},
+         {"charge_kg", found ? nlohmann::ordered_json(p.charge_kg) : nlohmann::ordered_json()},
+         {"scaled_distance_m_kg13",
+          found ? nlohmann::ordered_json(p.distance_m / std::cbrt(p.charge_kg))
+                : nlohmann::ordered_json()},
+         {"in_validity_range", p.in_validity_range}});
+  }
+  out["points"] = list;
+  out["warnings"] = warnings;
+  return out;
+}
+
 std::vector<InputError> parse_response_request(const nlohmann::json& body,
                                                ResponseRequest& request) {
   std::vector<InputError> errors;
@@ -362,7 +444,10 @@ std::vector<InputError> parse_response_request(const nlohmann::json& body,
 std::vector<InputError> parse_pi_request(const nlohmann::json& body, PiRequest& request) {
   std::vector<InputError> errors;
   if (!body.is_object()) return {{"", "must be an object: {\"element\", \"ductility\" | ...}"}};
-  unknown_members(body, "", {"element", "ductility", "rotation_deg", "points"}, errors);
+  unknown_members(body, "",
+                  {"element", "ductility", "rotation_deg", "points", "diagram", "distances_m",
+                   "burst", "angle_deg"},
+                  errors);
   element_errors(body, request.element, errors);
   PiLimit limit;
   const auto number = [&](const char* key) -> std::optional<double> {
@@ -384,11 +469,60 @@ std::vector<InputError> parse_pi_request(const nlohmann::json& body, PiRequest& 
       request.points = static_cast<std::size_t>(*points);
     }
   }
+  if (body.contains("diagram")) {
+    const nlohmann::json& d = body.at("diagram");
+    if (d == "wr") {
+      request.wr = true;
+    } else if (d != "pi") {
+      errors.push_back({"/diagram",
+                        "must be \"pi\" (pressure-impulse) or \"wr\" (charge "
+                        "weight against stand-off)"});
+    }
+  }
+  for (const char* key : {"distances_m", "burst", "angle_deg"}) {
+    if (body.contains(key) && !request.wr)
+      errors.push_back({std::string("/") + key, "is for \"diagram\": \"wr\" only"});
+  }
+  if (request.wr && body.contains("distances_m")) {
+    const nlohmann::json& d = body.at("distances_m");
+    if (!d.is_array() || d.size() != 2 || !d[0].is_number() || !d[1].is_number()) {
+      errors.push_back({"/distances_m", "must be [min, max] in m"});
+    } else {
+      request.wr_query.min_distance_m = d[0].get<double>();
+      request.wr_query.max_distance_m = d[1].get<double>();
+      if (!(request.wr_query.min_distance_m >= kMinWrDistanceM &&
+            request.wr_query.min_distance_m < request.wr_query.max_distance_m &&
+            request.wr_query.max_distance_m <= kMaxWrDistanceM))
+        errors.push_back({"/distances_m", "must be [min, max] with " + shown(kMinWrDistanceM) +
+                                              " <= min < max <= " + shown(kMaxWrDistanceM) + " m"});
+    }
+  }
+  if (request.wr && body.contains("burst")) {
+    const nlohmann::json& b = body.at("burst");
+    if (b == "surface") {
+      request.wr_query.burst = blast::Burst::surface;
+    } else if (b != "air") {
+      errors.push_back({"/burst", "must be \"air\" or \"surface\""});
+    }
+  }
+  if (request.wr) {
+    if (const auto angle = number("angle_deg")) {
+      if (!(*angle >= 0.0 && *angle < 90.0))
+        errors.push_back({"/angle_deg", "must be in [0, 90) degrees"});
+      else
+        request.wr_query.angle_deg = *angle;
+    }
+  }
   if (errors.empty()) {
     if (const auto y =
             pi_displacement_limit(request.element, limit, "/ductility", "/rotation_deg", errors)) {
       request.displacement_limit_m = *y;
     }
+  }
+  if (errors.empty() && request.wr) {
+    if (const auto cost = check_wr_cost(response::equivalent_system(request.element),
+                                        request.wr_query, "/distances_m"))
+      errors.push_back(*cost);
   }
   return errors;
 }

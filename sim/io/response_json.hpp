@@ -103,9 +103,35 @@ std::optional<double> pi_displacement_limit(const response::Element& element, co
 nlohmann::ordered_json pi_json(const response::Element& element, double displacement_limit_m,
                                std::size_t points);
 
+// The W–R (charge weight against stand-off) diagram of the same damage limit: for each of
+// `points` stand-offs log-spaced over [min_distance_m, max_distance_m], the TNT-equivalent charge
+// whose reflected Friedlander pulse (at angle_deg to the element's normal) just reaches the limit
+// (response::wr_curve; bisection in log mass over [kMinWrChargeKg, kMaxWrChargeKg]).
+inline constexpr double kMinWrChargeKg = 1e-3;
+inline constexpr double kMaxWrChargeKg = 1e6;
+inline constexpr double kMinWrDistanceM = 0.1;
+inline constexpr double kMaxWrDistanceM = 10000.0;
+struct WrQuery {
+  double min_distance_m = 1.0;
+  double max_distance_m = 100.0;
+  blast::Burst burst = blast::Burst::air;
+  double angle_deg = 0.0;
+};
+// The run-length bound for a W–R diagram: the largest charge's pulse at the largest stand-off
+// (the longest load searched) must end within kMaxLoadPeriods natural periods.
+std::optional<InputError> check_wr_cost(const response::SdofSystem& system, const WrQuery& query,
+                                        std::string_view pointer);
+// The W–R diagram as JSON: diagram "wr", displacement_limit_m, ductility, rotation_deg,
+// natural_period_ms, burst, angle_deg, points [{distance_m, charge_kg (null: no charge in
+// [1 g, 1000 t] reaches the limit), scaled_distance_m_kg13 (null likewise), in_validity_range}],
+// warnings (stand-offs without a charge).
+nlohmann::ordered_json wr_json(const response::Element& element, double displacement_limit_m,
+                               std::size_t points, const WrQuery& query);
+
 // A whole POST /v1/response body: {"element": {...}, "charge": {...} | "pulse": {...},
 // "history": bool (default true)}; a POST /v1/pi body: {"element", "ductility" |
-// "rotation_deg", "points"}. Every problem is returned with its pointer.
+// "rotation_deg", "points", "diagram": "pi" | "wr", and for "wr" "distances_m": [min, max],
+// "burst", "angle_deg"}. Every problem is returned with its pointer.
 struct ResponseRequest {
   response::Element element;
   LoadQuery load;
@@ -117,6 +143,8 @@ struct PiRequest {
   response::Element element;
   double displacement_limit_m = 0.0;
   std::size_t points = 60;
+  bool wr = false;  // the W–R diagram instead of the P–I curve
+  WrQuery wr_query;
 };
 std::vector<InputError> parse_pi_request(const nlohmann::json& body, PiRequest& request);
 

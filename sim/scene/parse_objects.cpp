@@ -25,6 +25,11 @@ constexpr std::array<Choice<FractureSpec::Trigger>, 2> kTriggers = {{
     {"auto", FractureSpec::Trigger::automatic},
     {"always", FractureSpec::Trigger::always},
 }};
+constexpr std::array<Choice<FractureSpec::Breakage>, 2> kFractureBreakages = {{
+    {"dynamic", FractureSpec::Breakage::dynamic},
+    {"static", FractureSpec::Breakage::static_plate},
+}};
+
 constexpr std::array<Choice<FractureSpec::Clearing>, 2> kFractureClearings = {{
     {"fragment", FractureSpec::Clearing::fragment},
     {"pane", FractureSpec::Clearing::pane},
@@ -277,7 +282,7 @@ std::optional<FractureSpec> parse_fracture(const json& value, const std::string&
       "wiggle_variance", "grid",           "seed",
       "framed",          "bond_strength",  "frame_strength",
       "frame_bite",      "clearing",       "strength",
-      "toughness",       "youngs_modulus"};
+      "toughness",       "youngs_modulus", "breakage"};
   const Fields fields(value, pointer, errors, "'fracture'", known);
   FractureSpec spec;
   spec.trigger = fields.choice("break", FractureSpec::Trigger::automatic, kTriggers);
@@ -315,6 +320,7 @@ std::optional<FractureSpec> parse_fracture(const json& value, const std::string&
       fields.number("frame_strength", spec.frame_strength_pa, non_negative("Pa"));
   spec.frame_bite_m = fields.number("frame_bite", spec.frame_bite_m, positive("m"));
   spec.clearing = fields.choice("clearing", FractureSpec::Clearing::pane, kFractureClearings);
+  spec.breakage = fields.choice("breakage", FractureSpec::Breakage::dynamic, kFractureBreakages);
   // The material's values, then the explicit ones.
   const bool breakable = material && material->strength_pa > 0.0;
   if (breakable) {

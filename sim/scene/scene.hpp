@@ -61,6 +61,7 @@ enum class ShapeType { box, mesh };
 struct FractureSpec {
   enum class Trigger { automatic, always };
   enum class Clearing { fragment, pane };
+  enum class Breakage { dynamic, static_plate };
   // automatic: break when the stress beats the strength; always: break whatever the pressure
   // (artist control: the thesis decouples pattern and blast by choice, §6).
   Trigger trigger = Trigger::automatic;
@@ -89,6 +90,10 @@ struct FractureSpec {
   // does (the cracks are closed while the wave loads it); fragment: each fragment clears from
   // its own edges (thesis §6.5), which takes most of a fragment's load within microseconds.
   Clearing clearing = Clearing::pane;
+  // How the pane's stress is judged (docs/fracture.md): dynamic — the peak centre stress of a
+  // large-deflection plate SDOF under the pane's pressure history (sim/response/plate);
+  // static_plate ("static") — Roark's small-deflection stress under the peak pressure.
+  Breakage breakage = Breakage::dynamic;
 };
 
 struct ObjectSpec {

@@ -10,6 +10,8 @@
 
 #include "cli/commands.hpp"
 #include "cli/text.hpp"
+#include "sim/blast/blast_point.hpp"
+#include "sim/blast/reflection.hpp"
 #include "sim/engine/simulator.hpp"
 #include "sim/scene/scene.hpp"
 
@@ -80,7 +82,7 @@ TEST(FractureCommand, SvgHasOnePolygonPerFragment) {
   const std::string svg_path = temp_path("pattern.svg");
   const std::string json_path = temp_path("pattern2.json");
   std::ostringstream out;
-  const Args common = {"--width", "1",   "--height",           "1",
+  const Args common = {"--width", "1",   "--height",           "1", "--duration-ms", "7",
                        "--grid",  "256", "--branch-angle-deg", "30"};
   Args svg_args = common;
   svg_args.insert(svg_args.end(), {"-o", svg_path});
@@ -102,7 +104,8 @@ TEST(FractureCommand, SvgHasOnePolygonPerFragment) {
 
 TEST(FractureCommand, PreviewsThePatternAJobGrowsForTheSamePane) {
   // A job breaks a 1.2 x 0.8 m, 6 mm pane 15 m from 10 kg TNT; the CLI given the pane's size,
-  // the peak pressure of the job's fracture report and the seed grows the same fragments.
+  // the reflected pulse (the peak pressure of the job's fracture report, and the duration and
+  // impulse `brisance blast` gives) and the seed grows the same fragments.
   const scene::ParseResult parsed = scene::parse_scene(nlohmann::json::parse(R"({
     "charges": [{"position": [0, 1, -15], "mass": 10}],
     "objects": [{"name": "pane", "shape": {"type": "box", "size": [1.2, 0.8, 0.006]},
@@ -117,16 +120,28 @@ TEST(FractureCommand, PreviewsThePatternAJobGrowsForTheSamePane) {
   ASSERT_TRUE(pane.broken);
   ASSERT_GT(pane.fragment_count, 10u);
 
+  blast::Charge charge;
+  charge.tnt_equivalent_kg = 10.0;
+  const blast::BlastPoint point = blast::blast_point(charge, 15.0);
+  const blast::ObliqueReflection head_on =
+      blast::oblique_reflection(point.incident_overpressure_pa, point.incident_impulse_pa_s,
+                                point.reflected_overpressure_pa, point.reflected_impulse_pa_s, 0.0);
+  ASSERT_EQ(head_on.overpressure_pa, pane.peak_pressure_pa);
   const std::string path = temp_path("job_pane.json");
   std::ostringstream out;
   ASSERT_EQ(
       run_fracture({"--width", "1.2", "--height", "0.8", "--thickness", "0.006", "--pressure-kpa",
-                    text::printf("%.17g", pane.peak_pressure_pa / 1e3), "--seed", "7", "-o", path},
+                    text::printf("%.17g", pane.peak_pressure_pa / 1e3), "--duration-ms",
+                    text::printf("%.17g", point.positive_duration_s * 1e3), "--impulse-kpa-ms",
+                    text::printf("%.17g", head_on.impulse_pa_s), "--seed", "7", "-o", path},
                    out),
       kExitOk);
   const nlohmann::json preview = nlohmann::json::parse(read(path));
   EXPECT_EQ(preview["fragments"].size(), pane.fragment_count);
-  EXPECT_DOUBLE_EQ(preview["growth_length"].get<double>(), pane.growth_length_m);
+  // The flags are decimal kPa and ms, so the pulse can differ from the job's in the last bit,
+  // and the integrated stress with it.
+  EXPECT_NEAR(preview["growth_length"].get<double>() / pane.growth_length_m, 1.0, 1e-12);
+  EXPECT_EQ(preview["breakage"], "dynamic");
   EXPECT_NE(out.str().find("growth length"), std::string::npos) << out.str();
   for (std::size_t k = 0; k < pane.fragment_count; ++k) {
     const double area = preview["fragments"][k]["area"].get<double>();
@@ -137,7 +152,9 @@ TEST(FractureCommand, PreviewsThePatternAJobGrowsForTheSamePane) {
   std::filesystem::remove(path);
 
   // Without a pressure, the one that just breaks the pane: the coarsest pattern, fewer pieces.
-  ASSERT_EQ(run_fracture({"--width", "1.2", "--height", "0.8", "--seed", "7", "-o", path}, out),
+  ASSERT_EQ(run_fracture({"--width", "1.2", "--height", "0.8", "--seed", "7", "--duration-ms",
+                          text::printf("%.17g", point.positive_duration_s * 1e3), "-o", path},
+                         out),
             kExitOk);
   EXPECT_LT(nlohmann::json::parse(read(path))["fragments"].size(), pane.fragment_count);
   EXPECT_NE(out.str().find("the pressure that just breaks it"), std::string::npos) << out.str();
@@ -176,10 +193,24 @@ TEST(FractureCommand, BadInputIsOneClearMessage) {
   EXPECT_NE(usage_error({"--width", "1", "--height", "1", "--branch-angle-deg", "abc", "-o", out})
                 .find("must be a number"),
             std::string::npos);
-  EXPECT_NE(usage_error({"--width", "1", "--height", "1", "-o", "/nonexistent/dir/p.svg"})
+  EXPECT_NE(usage_error({"--width", "1", "--height", "1", "--duration-ms", "7", "-o",
+                         "/nonexistent/dir/p.svg"})
                 .find("cannot write"),
             std::string::npos);
   EXPECT_EQ(usage_error({"--width", "0", "--height", "1", "-o", out}).find('\n'),
+            std::string::npos);
+  EXPECT_NE(usage_error({"--width", "1", "--height", "1", "--pressure-kpa", "5", "-o", out})
+                .find("--duration-ms is required"),
+            std::string::npos);
+  EXPECT_NE(usage_error({"--width", "1", "--height", "1", "--duration-ms", "0", "-o", out})
+                .find("--duration-ms must be greater than 0"),
+            std::string::npos);
+  EXPECT_NE(usage_error({"--width", "1", "--height", "1", "--breakage", "wobbly", "-o", out})
+                .find("--breakage must be dynamic or static"),
+            std::string::npos);
+  EXPECT_NE(usage_error({"--width", "1", "--height", "1", "--duration-ms", "5", "--impulse-kpa-ms",
+                         "100", "-o", out})
+                .find("needs --pressure-kpa"),
             std::string::npos);
   std::ostringstream help;
   EXPECT_EQ(run_fracture({"--help"}, help), kExitOk);

@@ -12,6 +12,8 @@
 #include <nlohmann/json.hpp>
 
 #include "cli/commands.hpp"
+#include "cli/text.hpp"
+#include "sim/blast/blast_point.hpp"
 
 namespace brisance::cli {
 namespace {
@@ -239,6 +241,82 @@ TEST(PiCommand, BadLimitsAreUsageErrors) {
   EXPECT_NE(usage_error(run_pi, {"--element", ep, "--points", "1"}).find("2 to 100"),
             std::string::npos);
   EXPECT_NE(usage_error(run_pi, {"--element", ep, "-o", "pi.png"}).find(".svg or .json"),
+            std::string::npos);
+}
+
+TEST(PiCommand, WrDiagramMeetsTheImpulsiveAsymptoteAndItsPointsSitOnTheLimit) {
+  // The elastic-plastic element at mu = 5 (T = 63 ms): close-in charges give reflected pulses
+  // of about 1 ms, impulsive for it, so the charge found at each stand-off carries the impulsive
+  // asymptote's 30 Pa*s (Baker et al. 1983 ch. 5) as its Kingery-Bulmash reflected impulse.
+  const std::string path = element_file("ep_wr", elastic_plastic());
+  const std::string out = testing::TempDir() + "/wr.json";
+  std::ostringstream text;
+  ASSERT_EQ(run_pi({"--element", path, "--ductility", "5", "--diagram", "wr", "--min-distance-m",
+                    "1", "--max-distance-m", "4", "--points", "3", "-o", out},
+                   text),
+            0);
+  std::ifstream file(out);
+  const auto wr = nlohmann::json::parse(file);
+  EXPECT_EQ(wr["diagram"], "wr");
+  ASSERT_EQ(wr["points"].size(), 3u);
+  EXPECT_NEAR(wr["points"][1]["distance_m"].get<double>(), 2.0, 1e-12);
+  double previous = 0.0;
+  for (const auto& p : wr["points"]) {
+    const double charge_kg = p["charge_kg"].get<double>();
+    const double distance_m = p["distance_m"].get<double>();
+    EXPECT_GT(charge_kg, previous);
+    previous = charge_kg;
+    blast::Charge charge;
+    charge.tnt_equivalent_kg = charge_kg;
+    const blast::BlastPoint point = blast::blast_point(charge, distance_m);
+    EXPECT_LT(point.positive_duration_s, 0.05 * 2.0 * std::numbers::pi / 100.0);
+    EXPECT_NEAR(point.reflected_impulse_pa_s / 30.0, 1.0, 0.03) << distance_m << " m";
+    // The response command at that charge and stand-off reaches the limit.
+    const nlohmann::json r =
+        run_json(run_response, {"--element", path, "--charge-kg", text::printf("%.17g", charge_kg),
+                                "--distance-m", text::printf("%.17g", distance_m), "--json"});
+    EXPECT_NEAR(r["ductility"].get<double>(), 5.0, 5.0 * 0.005) << distance_m << " m";
+  }
+  std::remove(out.c_str());
+  // Table and SVG.
+  std::ostringstream table;
+  ASSERT_EQ(
+      run_pi({"--element", path, "--ductility", "5", "--diagram", "wr", "--points", "4"}, table),
+      0);
+  EXPECT_NE(table.str().find("W-R diagram"), std::string::npos) << table.str();
+  const std::string svg_path = testing::TempDir() + "/wr.svg";
+  ASSERT_EQ(run_pi({"--element", path, "--ductility", "5", "--diagram", "wr", "--points", "4", "-o",
+                    svg_path},
+                   table),
+            0);
+  std::ifstream svg_file(svg_path);
+  std::stringstream svg;
+  svg << svg_file.rdbuf();
+  EXPECT_EQ(svg.str().rfind("<svg", 0), 0u);
+  EXPECT_NE(svg.str().find("<polyline"), std::string::npos);
+  std::remove(svg_path.c_str());
+}
+
+TEST(PiCommand, WrBadFlagsAreReportedAtOnce) {
+  const std::string ep = element_file("ep", elastic_plastic());
+  const std::string all = usage_error(
+      run_pi, {"--element", ep, "--diagram", "wr", "--min-distance-m", "50", "--max-distance-m",
+               "5", "--burst", "ground", "--angle-deg", "95", "--points", "200"});
+  for (const char* part : {"--points must be", "--min-distance-m/--max-distance-m must be",
+                           "--burst must be", "--angle-deg must be"})
+    EXPECT_NE(all.find(part), std::string::npos) << all;
+  EXPECT_NE(usage_error(run_pi, {"--element", ep, "--diagram", "xy"}).find("pi or wr"),
+            std::string::npos);
+  EXPECT_NE(usage_error(run_pi, {"--element", ep, "--burst", "air"}).find("--diagram wr only"),
+            std::string::npos);
+  // Bounded cost: a stiff element (T = 0.63 ms) and a 10 km stand-off, where the largest charge
+  // searched gives a load lasting beyond 2000 periods.
+  nlohmann::json stiff = elastic_plastic();
+  stiff["resistance"]["stiffness_n_per_m"] = 1e10;
+  stiff["resistance"]["yield_resistance_n"] = 1e7;
+  const std::string st = element_file("stiff", stiff);
+  EXPECT_NE(usage_error(run_pi, {"--element", st, "--diagram", "wr", "--max-distance-m", "10000"})
+                .find("natural periods"),
             std::string::npos);
 }
 

@@ -712,6 +712,7 @@ async function sceneSchemaAgreement(s) {
     ["box with vertices", edit((x) => { x.objects[0].shape.vertices = []; }), "/scene/objects/0/shape/vertices"],
     ["material cheese", edit((x) => { x.objects[0].material = "cheese"; }), "/scene/objects/0/material"],
     ["fracture", edit((x) => { x.objects[0].fracture = {}; }), "/scene/objects/0/fracture"],
+    ["breakage 'wobbly'", edit((x) => { x.objects[0] = { name: "pane", shape: { type: "box", size: [1, 1, 0.006] }, position: [0, 1, 0], material: "glass", fracture: { breakage: "wobbly" } }; }), "/scene/objects/0/fracture/breakage"],
     ["orientation of 3", edit((x) => { x.objects[0].orientation = [0, 0, 1]; }), "/scene/objects/0/orientation"],
     ["empty name", edit((x) => { x.objects[0].name = ""; }), "/scene/objects/0/name"],
     ["drag_coefficient 0", edit((x) => { x.objects[0].drag_coefficient = 0; }), "/scene/objects/0/drag_coefficient"],

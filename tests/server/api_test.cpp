@@ -717,6 +717,41 @@ TEST(Api, ResponseAndPiAnswerWithClosedFormsAndPointers) {
             std::vector<std::string>{"/points"});
   EXPECT_EQ(pointers(server.request("POST", "/v1/pi", json{{"element", elastic_element()}}.dump())),
             std::vector<std::string>{"/rotation_deg"});
+  // The W–R diagram of the same limit: charges growing with stand-off, every bad field at once.
+  json elastic_plastic = elastic_element();
+  elastic_plastic["resistance"] = {
+      {"type", "elastic_plastic"}, {"stiffness_n_per_m", 1e6}, {"yield_resistance_n", 1e3}};
+  const ClientResponse wr = server.request("POST", "/v1/pi",
+                                           json{{"element", elastic_plastic},
+                                                {"ductility", 5},
+                                                {"points", 4},
+                                                {"diagram", "wr"},
+                                                {"distances_m", {2, 16}},
+                                                {"burst", "surface"},
+                                                {"angle_deg", 10}}
+                                               .dump());
+  ASSERT_EQ(wr.status, 200) << wr.body;
+  const json diagram = json::parse(wr.body);
+  EXPECT_EQ(diagram.at("diagram"), "wr");
+  EXPECT_EQ(diagram.at("burst"), "surface");
+  ASSERT_EQ(diagram.at("points").size(), 4u);
+  EXPECT_NEAR(diagram.at("points")[3].at("distance_m").get<double>(), 16.0, 1e-12);
+  for (std::size_t k = 1; k < 4; ++k)
+    EXPECT_GT(diagram.at("points")[k].at("charge_kg").get<double>(),
+              diagram.at("points")[k - 1].at("charge_kg").get<double>());
+  EXPECT_EQ(pointers(server.request("POST", "/v1/pi",
+                                    json{{"element", elastic_plastic},
+                                         {"diagram", "wr"},
+                                         {"distances_m", {5, 1}},
+                                         {"burst", "ground"},
+                                         {"angle_deg", 90},
+                                         {"points", 0}}
+                                        .dump())),
+            (std::vector<std::string>{"/points", "/distances_m", "/burst", "/angle_deg"}));
+  EXPECT_EQ(pointers(server.request(
+                "POST", "/v1/pi",
+                json{{"element", elastic_plastic}, {"diagram", "xy"}, {"burst", "air"}}.dump())),
+            (std::vector<std::string>{"/diagram", "/burst"}));
   EXPECT_EQ(server.request("POST", "/v1/pi", "{not json").status, 400);
   EXPECT_EQ(server.request("POST", "/v1/pi", "x", {{"Content-Type", "text/plain"}}).status, 415);
   EXPECT_EQ(server.request("GET", "/v1/pi").status, 405);

@@ -642,6 +642,28 @@ class Client:
             body["points"] = int(points)
         return self._post_json("/v1/pi", body)
 
+    def wr(self, element: Mapping[str, Any], *, ductility: Optional[float] = None,
+           rotation_deg: Optional[float] = None, points: Optional[int] = None,
+           distances_m: Optional[Sequence[float]] = None, burst: Optional[str] = None,
+           angle_deg: Optional[float] = None) -> Dict[str, Any]:
+        """The charge weight-stand-off (W-R) diagram of ``element`` for a ductility ratio or a
+        support rotation (``POST /v1/pi`` with ``"diagram": "wr"``): for each stand-off in
+        ``distances_m`` = [min, max] (log-spaced), the TNT charge that just reaches the limit."""
+        body: Dict[str, Any] = {"element": element, "diagram": "wr"}
+        if ductility is not None:
+            body["ductility"] = float(ductility)
+        if rotation_deg is not None:
+            body["rotation_deg"] = float(rotation_deg)
+        if points is not None:
+            body["points"] = int(points)
+        if distances_m is not None:
+            body["distances_m"] = [float(d) for d in distances_m]
+        if burst is not None:
+            body["burst"] = burst
+        if angle_deg is not None:
+            body["angle_deg"] = float(angle_deg)
+        return self._post_json("/v1/pi", body)
+
     def _post_json(self, path: str, body: Mapping[str, Any]) -> Dict[str, Any]:
         payload = json.dumps(body, separators=(",", ":"), allow_nan=False).encode("utf-8")
         return self.request("POST", path, body=payload,

@@ -500,6 +500,16 @@ class JobsTest(ServerTestCase):
         self.assertAlmostEqual(curve["impulsive_asymptote_kpa_ms"], (2 * 100 * 1e4 * 0.015) ** 0.5)
         self.assertAlmostEqual(curve["quasi_static_asymptote_kpa"], 7.5)
         self.assertEqual(len(curve["points"]), 6)
+        # The W-R diagram of the same limit: the charge grows with the stand-off.
+        wr = self.client.wr(element, ductility=2, points=3, distances_m=[5, 20])
+        self.assertEqual(wr["diagram"], "wr")
+        charges = [p["charge_kg"] for p in wr["points"]]
+        self.assertEqual([p["distance_m"] for p in wr["points"]][1], 10.0)
+        self.assertLess(charges[0], charges[1])
+        self.assertLess(charges[1], charges[2])
+        with self.assertRaises(ProblemError) as caught:
+            self.client.wr(element, ductility=2, burst="ground", distances_m=[5, 1])
+        self.assertEqual([p for p, _ in caught.exception.errors], ["/distances_m", "/burst"])
         with self.assertRaises(ProblemError) as caught:
             self.client.response(dict(element, mass_kg=-1), pulse={"peak_kpa": 1})
         self.assertEqual((caught.exception.status, caught.exception.kind), (422, "invalid-input"))

@@ -19,6 +19,7 @@ export type ResponseRequest = Schemas["ResponseRequest"];
 export type ElementResponse = Schemas["ElementResponse"];
 export type PiRequest = Schemas["PiRequest"];
 export type PiCurve = Schemas["PiCurve"];
+export type WrDiagram = Schemas["WrDiagram"];
 export type Explosive = Schemas["Explosive"];
 export type Explosives = Schemas["Explosives"];
 export type ResultSummary = Schemas["ResultSummary"];
@@ -223,7 +224,15 @@ export class BrisanceClient {
 
   /** `POST /v1/pi`: the pressure-impulse curve of an element for one damage limit. */
   async pressureImpulse(request: PiRequest, options: RequestOptions = {}): Promise<PiCurve> {
-    return this.postJson<PiCurve>("/v1/pi", request, options);
+    return this.postJson<PiCurve>("/v1/pi", { ...request, diagram: "pi" }, options);
+  }
+
+  /** `POST /v1/pi` with `"diagram": "wr"`: the charge weight-stand-off diagram of the limit. */
+  async chargeStandOff(
+    request: Omit<PiRequest, "diagram">,
+    options: RequestOptions = {},
+  ): Promise<WrDiagram> {
+    return this.postJson<WrDiagram>("/v1/pi", { ...request, diagram: "wr" }, options);
   }
 
   /** `GET /v1/explosives`: the explosives a charge may name. */

@@ -479,13 +479,17 @@ export interface paths {
         get?: never;
         put?: never;
         /**
-         * Pressure-impulse (P-I) curve of an element
+         * Pressure-impulse (P-I) curve or charge weight-stand-off (W-R) diagram of an element
          * @description The iso-damage curve of an element for one limit (a ductility ratio, or a support
          *     rotation): for each of `points` triangular pulse durations from 0.01 to 100 natural
          *     periods, the peak pressure that just reaches the limit, with the impulsive and
          *     quasi-static asymptotes in closed form (docs/response.md), as `brisance pi -o pi.json`.
+         *     With `"diagram": "wr"`, the W-R diagram of the same limit instead: for each of `points`
+         *     stand-offs log-spaced over `distances_m`, the TNT charge (1 g to 1000 t) whose reflected
+         *     Friedlander pulse just reaches it, as `brisance pi --diagram wr -o wr.json`.
          *     Synchronous and bounded (at most 100 points, ductility at most 100, rotation at most 45
-         *     degrees).
+         *     degrees; a W-R diagram whose largest stand-off would let the largest charge's load last
+         *     beyond 2000 natural periods is refused at `/distances_m`).
          */
         post: operations["postPressureImpulse"];
         delete?: never;
@@ -1048,10 +1052,11 @@ export interface components {
             max: number;
         };
         /**
-         * @description A breakable pane (docs/fracture.md): the peak reflected pressure at its centre, its
-         *     bending stress (Roark table 11.4 case 1a, simply supported plate), whether it broke and
-         *     at what scale (thesis eq. 5.5), and its fragments, which are bodies `first_body` to
-         *     `first_body + fragment_count - 1`.
+         * @description A breakable pane (docs/fracture.md): the peak reflected pressure at its centre, its peak
+         *     centre stress and deflection by its `fracture.breakage` model (the large-deflection plate
+         *     SDOF under its pressure history, or Roark table 11.4 case 1a under the peak pressure),
+         *     whether it broke and at what scale (thesis eq. 5.5), and its fragments, which are bodies
+         *     `first_body` to `first_body + fragment_count - 1`.
          */
         PaneFracture: {
             name: string;
@@ -1062,7 +1067,7 @@ export interface components {
             stress_pa: number;
             strength_pa: number;
             deflection_m: number;
-            /** @description The plate's deflection stays below half its thickness (the formula's range). */
+            /** @description The plate's (peak) deflection stays below half its thickness (the small-deflection formula's range). */
             small_deflection: boolean;
             /** @description a_c = (1/pi)(K_c/stress)^2 (thesis eq. 5.5); 0 if unbroken. */
             critical_crack_length_m: number;
@@ -1472,6 +1477,55 @@ export interface components {
             rotation_deg?: number;
             /** @default 60 */
             points?: number;
+            /**
+             * @description pi - the P-I curve (PiCurve); wr - the charge weight-stand-off diagram (WrDiagram).
+             * @default pi
+             * @enum {string}
+             */
+            diagram?: "pi" | "wr";
+            /**
+             * @description wr only - the smallest and largest stand-off, m (0.1 <= min < max <= 10000).
+             * @default [
+             *       1,
+             *       100
+             *     ]
+             */
+            distances_m?: [
+                number,
+                number
+            ];
+            /**
+             * @description wr only - Kingery-Bulmash free-air or hemispherical surface burst.
+             * @default air
+             * @enum {string}
+             */
+            burst?: "air" | "surface";
+            /**
+             * @description wr only - angle of the wave to the element's normal.
+             * @default 0
+             */
+            angle_deg?: number;
+        };
+        WrDiagram: {
+            /** @constant */
+            diagram: "wr";
+            displacement_limit_m: number;
+            ductility: number | null;
+            rotation_deg: number | null;
+            natural_period_ms: number;
+            /** @enum {string} */
+            burst: "air" | "surface";
+            angle_deg: number;
+            points: {
+                distance_m: number;
+                /** @description TNT-equivalent charge just reaching the limit; null if none from 1 g to 1000 t does. */
+                charge_kg: number | null;
+                scaled_distance_m_kg13: number | null;
+                /** @description The Kingery-Bulmash curves' scaled-distance range at that charge. */
+                in_validity_range: boolean;
+            }[];
+            /** @description Stand-offs where no charge in the range reaches the limit. */
+            warnings: number;
         };
         PiCurve: {
             displacement_limit_m: number;
@@ -1768,9 +1822,10 @@ export interface components {
             material: unknown;
         };
         /**
-         * @description A breakable pane (docs/fracture.md). The peak reflected pressure at its centre gives its
-         *     bending stress (Roark table 11.4 case 1a); above the strength it breaks into a crack
-         *     pattern whose growth length is `pattern_scale` x a_c (thesis eq. 5.5), unless given.
+         * @description A breakable pane (docs/fracture.md). The reflected pressure history at its centre gives
+         *     its peak centre stress (`breakage`: a large-deflection plate SDOF, or Roark table 11.4
+         *     case 1a under the peak pressure); above the strength it breaks into a crack pattern whose
+         *     growth length is `pattern_scale` x a_c (thesis eq. 5.5), unless given.
          */
         Fracture: {
             /**
@@ -1824,6 +1879,12 @@ export interface components {
              * @enum {string}
              */
             clearing?: "fragment" | "pane";
+            /**
+             * @description dynamic - the peak centre stress of a large-deflection (membrane) plate SDOF under the pane's pressure history; static - Roark's small-deflection stress under the peak pressure.
+             * @default dynamic
+             * @enum {string}
+             */
+            breakage?: "dynamic" | "static";
             /** @description Bending strength, Pa. */
             strength?: number;
             /** @description K_c, Pa m^0.5. */
@@ -3520,7 +3581,7 @@ export interface operations {
                     [name: string]: unknown;
                 };
                 content: {
-                    "application/json": components["schemas"]["PiCurve"];
+                    "application/json": components["schemas"]["PiCurve"] | components["schemas"]["WrDiagram"];
                 };
             };
             400: components["responses"]["MalformedBody"];

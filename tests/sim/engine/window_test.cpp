@@ -12,6 +12,7 @@
 #include <gtest/gtest.h>
 
 #include "sim/blast/blast_point.hpp"
+#include "sim/engine/pane_pattern.hpp"
 #include "sim/engine/simulator.hpp"
 #include "sim/fracture/pane.hpp"
 #include "sim/geometry/mesh.hpp"
@@ -254,13 +255,21 @@ TEST(PaneCoupling, DeterministicFragmentsAndFrames) {
 }
 
 TEST(WindowScenes, WindowIsBlownOut) {
-  // Thesis ch. 6: hundreds of fragments blown away from the charge (at +z), larger ones faster
-  // (§6.5: each fragment clears from its own edges).
+  // Thesis ch. 6: fragments blown away from the charge (at +z), larger ones faster (§6.5: each
+  // fragment clears from its own edges). Hundreds of them with the static small-deflection
+  // stress (778 MPa at window.json's 80.9 kPa); dozens with the dynamic plate model, whose
+  // membrane action holds the stress to 208 MPa: eq. 5.5's growth length is (778/208)^2 = 14 x
+  // longer (docs/fracture.md, "Breakage: dynamic against static").
+  scene::Scene by_static = load("window.json");
+  by_static.objects[0].fracture->breakage = scene::FractureSpec::Breakage::static_plate;
+  by_static.simulation.duration_s = 0.01;
+  EXPECT_GE(simulate(by_static).result.fracture[0].fragment_count, 500u);
   const Result r = simulate(load("window.json")).result;
   ASSERT_EQ(r.fracture.size(), 1u);
   const PaneReport& pane = r.fracture[0];
   ASSERT_TRUE(pane.broken);
-  EXPECT_GE(pane.fragment_count, 500u);
+  EXPECT_NEAR(pane.stress_pa, 208e6, 1e6);
+  EXPECT_GE(pane.fragment_count, 30u);
   EXPECT_GT(pane.released, pane.fragment_count / 2);
   EXPECT_GT(pane.launch_speed_larger_half_m_s, pane.launch_speed_smaller_half_m_s);
   std::size_t away = 0;
@@ -288,9 +297,16 @@ TEST(WindowScenes, ShelteredPaneFliesWithTheMomentumTheWaveGives) {
   const double speed = sheltered.fracture[0].launch_speed_m_s.mean;
   EXPECT_GT(speed, 0.6 * bound);
   EXPECT_LT(speed, 1.3 * bound);
-  // Held fragments keep the load they took before breaking free: nearly all leave the frame.
+  // Held fragments keep the load they took before breaking free: nearly all leave the frame —
+  // above 90 % of the static model's 400-odd fragments; of the dynamic model's 43, ten times
+  // larger, 36 (84 %): the frame holds a larger share of the pane along each large edge piece.
   EXPECT_GT(static_cast<double>(sheltered.fracture[0].released),
-            0.9 * static_cast<double>(sheltered.fracture[0].fragment_count));
+            0.8 * static_cast<double>(sheltered.fracture[0].fragment_count));
+  scene::Scene by_static = s;
+  by_static.objects[0].fracture->breakage = scene::FractureSpec::Breakage::static_plate;
+  const Result static_sheltered = simulate(by_static).result;
+  EXPECT_GT(static_cast<double>(static_sheltered.fracture[0].released),
+            0.9 * static_cast<double>(static_sheltered.fracture[0].fragment_count));
   // In the open, the wave wraps around onto the pane's back and takes part of the push away.
   s.objects[0].sheltered = 0;
   const double open = simulate(s).result.fracture[0].launch_speed_m_s.mean;
@@ -352,6 +368,42 @@ TEST(WindowInAWall, AFrameLeftInTheAirIsReported) {
   const Result standing = simulate(wall_with_window(0.02, 10.0, 200.0)).result;
   EXPECT_EQ(floating_count(standing), 0u);
   EXPECT_TRUE(standing.animated.empty());
+}
+
+TEST(PaneCoupling, BreakingPressureAndPatternUseOneStressForBothModels) {
+  // `brisance fracture` and a job judge a pane with the same function: just above the breaking
+  // pressure of a pulse shape the pane breaks, just below it does not, for either model; the
+  // static model's breaking pressure does not depend on the pulse, the dynamic one's does.
+  const PaneSize pane{1.2, 0.9, 0.006, 2500.0};
+  const auto triangle = [](double peak_pa, double duration_s) {
+    PaneLoad load;
+    load.peak_pressure_pa = peak_pa;
+    load.history.components.push_back(response::pulse_component(blast::make_pulse(
+        blast::PulseShape::triangle_same_period, peak_pa, duration_s, 0.5 * peak_pa * duration_s)));
+    return load;
+  };
+  double dynamic_short = 0.0;
+  for (const auto model :
+       {scene::FractureSpec::Breakage::static_plate, scene::FractureSpec::Breakage::dynamic}) {
+    scene::FractureSpec spec;
+    spec.breakage = model;
+    std::vector<double> breaking;
+    for (const double duration_s : {0.002, 0.2}) {
+      const double p = breaking_pressure_pa(spec, pane, triangle(1e3, duration_s));
+      breaking.push_back(p);
+      EXPECT_TRUE(pane_pattern(spec, pane, triangle(1.002 * p, duration_s), 1).response.breaks);
+      EXPECT_FALSE(pane_pattern(spec, pane, triangle(0.997 * p, duration_s), 1).response.breaks);
+    }
+    if (model == scene::FractureSpec::Breakage::static_plate) {
+      EXPECT_EQ(breaking[0], breaking[1]);
+    } else {
+      // A short pulse (t_d / T about 0.05; T = 36 ms) needs more pressure than a long one (about
+      // 5).
+      EXPECT_GT(breaking[0], 3.0 * breaking[1]);
+      dynamic_short = breaking[0];
+    }
+  }
+  EXPECT_GT(dynamic_short, 0.0);
 }
 
 }  // namespace

@@ -321,13 +321,24 @@ TEST(SceneFracture, PaneGetsTheMaterialsValuesAndDefaults) {
 TEST(SceneFracture, EveryFieldIsRead) {
   json doc = pane_scene();
   doc["objects"][0]["material"] = "tempered_glass";
-  doc["objects"][0]["fracture"] = {
-      {"break", "always"},     {"growth_length", 0.01}, {"pattern_scale", 100},
-      {"branch_angle", 15},    {"angle_variance", 0},   {"wiggle_probability", 0},
-      {"wiggle_variance", 10}, {"grid", 256},           {"seed", 9},
-      {"framed", true},        {"bond_strength", 5},    {"frame_strength", 6},
-      {"frame_bite", 0.02},    {"clearing", "pane"},    {"strength", 1e8},
-      {"toughness", 1e6},      {"youngs_modulus", 6e10}};
+  doc["objects"][0]["fracture"] = {{"break", "always"},
+                                   {"growth_length", 0.01},
+                                   {"pattern_scale", 100},
+                                   {"branch_angle", 15},
+                                   {"angle_variance", 0},
+                                   {"wiggle_probability", 0},
+                                   {"wiggle_variance", 10},
+                                   {"grid", 256},
+                                   {"seed", 9},
+                                   {"framed", true},
+                                   {"bond_strength", 5},
+                                   {"frame_strength", 6},
+                                   {"frame_bite", 0.02},
+                                   {"clearing", "pane"},
+                                   {"strength", 1e8},
+                                   {"toughness", 1e6},
+                                   {"youngs_modulus", 6e10},
+                                   {"breakage", "static"}};
   const FractureSpec spec = *parse_ok(doc).objects[0].fracture;
   EXPECT_EQ(spec.trigger, FractureSpec::Trigger::always);
   EXPECT_EQ(spec.growth_length_m, 0.01);
@@ -340,12 +351,14 @@ TEST(SceneFracture, EveryFieldIsRead) {
   EXPECT_EQ(spec.frame_strength_pa, 6.0);
   EXPECT_EQ(spec.frame_bite_m, 0.02);
   EXPECT_EQ(spec.clearing, FractureSpec::Clearing::pane);
+  EXPECT_EQ(spec.breakage, FractureSpec::Breakage::static_plate);
   EXPECT_EQ(spec.strength_pa, 1e8);
   EXPECT_EQ(spec.fracture_toughness_pa_sqrt_m, 1e6);
   EXPECT_EQ(spec.youngs_modulus_pa, 6e10);
   doc["objects"][0]["material"] = "tempered_glass";
   doc["objects"][0]["fracture"] = json::object();
   EXPECT_EQ(parse_ok(doc).objects[0].fracture->strength_pa, 120e6);
+  EXPECT_EQ(parse_ok(doc).objects[0].fracture->breakage, FractureSpec::Breakage::dynamic);
 }
 
 TEST(SceneFracture, ErrorsPointAtTheFieldAndNameTheFix) {
@@ -360,6 +373,8 @@ TEST(SceneFracture, ErrorsPointAtTheFieldAndNameTheFix) {
        [](json& d) { d["objects"][0]["fracture"]["growth_length"] = 0; }, "(0, 10]"},
       {"/objects/0/fracture/clearing",
        [](json& d) { d["objects"][0]["fracture"]["clearing"] = "edge"; }, "fragment, pane"},
+      {"/objects/0/fracture/breakage",
+       [](json& d) { d["objects"][0]["fracture"]["breakage"] = "wobbly"; }, "dynamic, static"},
       {"/objects/0/fracture", [](json& d) { d["objects"][0]["fracture"] = 3; }, "JSON object"},
       {"/objects/0/fracture",
        [](json& d) {

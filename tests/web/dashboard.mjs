@@ -359,6 +359,15 @@ try {
     const windowJob = (await posted.json()).id;
     await page.goto(`${open.url}/#/jobs/${windowJob}`);
     await page.locator(`.progress.large[data-job="${windowJob}"][data-status="succeeded"]`).waitFor({ timeout: JOB_TIMEOUT });
+    // The job page reports the pane's fracture and draws the pulse the charge sends to a body.
+    await page.locator("#job-fracture").waitFor({ timeout: 30_000 });
+    const fracture = await page.textContent("#job-fracture");
+    check(/Broke\s*yes/.test(fracture), `the fracture report does not say the pane broke: ${fracture.slice(0, 200)}`);
+    check(/eq\. 2\.45/.test(fracture), "the fracture report lacks the empirical area");
+    await page.locator('#plot-body-pulse path[data-name="reflected (head-on)"]').waitFor({ timeout: 30_000 });
+    const pulse = await page.textContent("#job-pulse");
+    check(/from charge 0/.test(pulse) && /Reflected P_r/.test(pulse), `pulse section: ${pulse.slice(0, 200)}`);
+    await shot(page, "job-window");
     await page.goto(`${open.url}/#/jobs/${windowJob}/player`);
     await page.locator('#player-stage[data-state="ready"]').waitFor({ timeout: 60_000 });
     await page.click("#play-pause");  // pause at the start: the pane whole in its frame

@@ -1,10 +1,14 @@
 // #/jobs/ID: the job's state, long-polled (`?wait=25` with If-None-Match: the server answers as
-// soon as the job changes), its stats, warnings and error, the downloads and the actions.
-import { client, describe, isAbort, type Job, ProblemError, type ResultSummary, type RunStats } from "../api";
+// soon as the job changes), its stats, warnings and error, the downloads and the actions; once
+// it succeeded, its panes' fracture report and the blast pulse at a chosen body.
+import { type BlastQuery, client, describe, isAbort, type Job, ProblemError, type ResultSummary,
+         type RunStats } from "../api";
 import { download, h, mount, sleep } from "../dom";
 import { dateTime, finished, num, queuedFor, ranFor, seconds } from "../format";
+import { linePlot } from "../plot";
 import type { View } from "../view";
 import { badge, errorBox, labelChips, progressBar } from "../widgets";
+import { pulseSamples } from "./blast";
 
 // Labels of the run statistics; a field the server adds later is shown under its own name.
 const STAT_LABELS: Record<string, string> = {
@@ -17,7 +21,8 @@ const STAT_LABELS: Record<string, string> = {
   body_steps: "Body steps", occlusion_skipped: "Occlusion skipped",
   panels_shielded: "Panels wholly shielded",
   collision_pairs: "Collision pairs (broadphase)", collision_pairs_skipped: "Collision pairs skipped",
-  contact_points: "Contact points",
+  contact_points: "Contact points", fragments: "Glass fragments", panes_broken: "Panes broken",
+  panes_not_broken: "Panes not broken (stress below strength)",
 };
 
 // Counts are exact integers (164359 body steps, not 164400); measured values keep four digits.
@@ -45,6 +50,105 @@ function shieldingSection(result: ResultSummary): HTMLElement | null {
           h("tbody", null, charge.bodies.map((body) =>
             h("tr", null, h("th", null, body.name),
               h("td", { class: "num" }, body.attenuation === 0 ? "0 (wholly shielded)" : num(body.attenuation, 3))))))));
+}
+
+type PaneFracture = NonNullable<ResultSummary["fracture"]>[number];
+
+// One column per breakable pane (docs/fracture.md): its load, the stress its breakage model
+// gave against its strength, the crack pattern's scale and what its fragments did, beside the
+// empirical glass formulas (thesis eqs. 2.45-2.46) at the same pressure.
+function fractureSection(result: ResultSummary): HTMLElement | null {
+  const panes = result.fracture ?? [];
+  if (panes.length === 0) return null;
+  const mm = (m: number) => num(m * 1e3, 3);
+  const rows: [string, (p: PaneFracture) => string][] = [
+    ["Broke", (p) => p.broken ? (p.forced ? "yes (forced: fracture.break = always)" : "yes") : "no"],
+    ["Peak reflected pressure (kPa)", (p) => num(p.peak_pressure_pa / 1e3, 4)],
+    ["Peak centre stress / strength (MPa)", (p) => `${num(p.stress_pa / 1e6, 4)} / ${num(p.strength_pa / 1e6, 4)}`],
+    ["Peak centre deflection (mm)", (p) => mm(p.deflection_m) + (p.small_deflection ? "" : " (large deflection)")],
+    ["Crack growth length (mm)", (p) => p.broken
+      ? mm(p.growth_length_m) + (p.growth_length_given ? " (given)" : p.growth_length_clamped ? " (clamped)" : "") : "–"],
+    ["Fragments (released)", (p) => p.broken ? `${p.fragment_count} (${p.released})` : "–"],
+    ["Mean frontal area (cm²) / eq. 2.45", (p) => p.broken
+      ? `${num(p.frontal_area_m2.mean * 1e4, 3)} / ${num(p.empirical_mean_area_m2 * 1e4, 3)}` : "–"],
+    ["Mean launch speed (m/s) / eq. 2.46", (p) => p.broken
+      ? `${num(p.launch_speed_m_s.mean, 3)} / ${num(p.empirical_mean_speed_m_s, 3)}` : "–"],
+    ["Release time p10–p90 (ms)", (p) => p.broken && p.released > 0
+      ? `${num(p.release_time_s.p10 * 1e3, 3)}–${num(p.release_time_s.p90 * 1e3, 3)}` : "–"],
+  ];
+  return h("section", { id: "job-fracture" },
+    h("h2", null, "Fracture"),
+    h("table", { class: "kv" },
+      h("thead", null, h("tr", null, h("th", null, ""), panes.map((p) => h("th", { "data-pane": p.name }, p.name)))),
+      h("tbody", null, rows.map(([label, cell]) =>
+        h("tr", null, h("th", null, label), panes.map((p) => h("td", { class: "num" }, cell(p))))))));
+}
+
+type Vec = [number, number, number];
+interface SceneCharge { position: Vec; mass: number; explosive?: string | { tnt_factor: number };
+                        burst?: "air" | "surface"; burst_model?: "hemispherical" | "factor_1_8" }
+
+// The free-field pulse a charge sends to a body (GET /v1/blast at the distance from the charge
+// to the body's origin; head-on reflection, so an upper bound for faces struck at an angle),
+// with the load scale the shielding pass gave that body for that charge.
+function pulseSection(result: ResultSummary, charges: SceneCharge[], signal: AbortSignal): HTMLElement | null {
+  if (charges.length === 0 || result.bodies.length === 0) return null;
+  const moving = result.bodies.filter((b) => b.animated);
+  const bodies = (moving.length > 0 ? moving : result.bodies).slice(0, 2000);
+  const bodySelect = h("select", { id: "pulse-body", name: "pulse-body" },
+    bodies.map((b) => h("option", { value: String(b.index) }, b.name)));
+  const chargeSelect = h("select", { id: "pulse-charge", name: "pulse-charge" },
+    charges.map((c, i) => h("option", { value: String(i) }, `Charge ${i}: ${num(c.mass)} kg`)));
+  const out = h("div", { id: "pulse-out" });
+  const message = h("p", { class: "muted", role: "status" });
+  let running: AbortController | null = null;
+  async function show(): Promise<void> {
+    running?.abort();
+    const controller = new AbortController();
+    running = controller;
+    signal.addEventListener("abort", () => controller.abort(), { once: true });
+    const body = result.bodies[Number(bodySelect.value)]!;
+    const ci = Number(chargeSelect.value);
+    const charge = charges[ci]!;
+    const distance = Math.hypot(...body.position.map((x, k) => x - charge.position[k]!));
+    const query: BlastQuery = { charge_kg: charge.mass, distance_m: Math.max(distance, 1e-3), burst: charge.burst ?? "air",
+                                surface_model: charge.burst_model ?? "hemispherical" };
+    if (typeof charge.explosive === "object") query.tnt_factor = charge.explosive.tnt_factor;
+    else if (charge.explosive) query.explosive = charge.explosive;
+    const shielded = result.shielding?.find((s) => s.charge === ci)?.bodies.find((b) => b.body === body.index);
+    message.textContent = "Asking /v1/blast…";
+    try {
+      const blast = await client.blast(query, { signal: controller.signal });
+      if (controller.signal.aborted) return;
+      message.textContent = `${body.name}: ${num(distance, 4)} m from charge ${ci} (Z ${num(blast.scaled_distance_m_kg13, 3)} m/kg^⅓)` +
+        (blast.in_validity_range ? "" : " — outside the fits' range") +
+        (shielded ? `; the shielding pass scaled its load by ${num(shielded.attenuation, 3)}.` : "; not shielded from it.");
+      mount(out,
+        h("table", { class: "kv", id: "pulse-values" }, h("tbody", null,
+          ([["Arrival (ms)", blast.arrival_time_ms], ["Positive duration (ms)", blast.positive_duration_ms],
+            ["Incident P_so (kPa)", blast.incident_overpressure_kpa], ["Incident i_s (kPa·ms)", blast.incident_impulse_kpa_ms],
+            ["Reflected P_r, head-on (kPa)", blast.reflected_overpressure_kpa],
+            ["Reflected i_r, head-on (kPa·ms)", blast.reflected_impulse_kpa_ms]] as [string, number][])
+            .map(([k, v]) => h("tr", null, h("th", null, k), h("td", { class: "num" }, num(v, 4)))))),
+        linePlot({ id: "plot-body-pulse", title: `Pulse at ${body.name}`, xLabel: "time since detonation (ms)",
+                   yLabel: "overpressure (kPa)",
+                   series: [{ name: "incident", cls: "incident", points: pulseSamples(blast.incident_pulse, blast.arrival_time_ms) },
+                            { name: "reflected (head-on)", cls: "reflected",
+                              points: pulseSamples(blast.reflected_pulse, blast.arrival_time_ms) }] }));
+    } catch (error) {
+      if (!isAbort(error)) { message.textContent = ""; mount(out, errorBox(error)); }
+    }
+  }
+  bodySelect.addEventListener("change", () => void show());
+  chargeSelect.addEventListener("change", () => void show());
+  void show();
+  return h("section", { id: "job-pulse" },
+    h("h2", null, "Blast pulse at a body"),
+    h("p", { class: "muted" }, "Free-field Kingery–Bulmash pulse at the distance from the charge to the body's origin, " +
+      "reflected head-on (faces struck at an angle see less; shielding is not in the curve)."),
+    h("div", { class: "fields" }, h("label", { class: "field" }, "Body ", bodySelect),
+      charges.length > 1 ? h("label", { class: "field" }, "Charge ", chargeSelect) : null),
+    message, out);
 }
 
 function infoTable(job: Job): HTMLElement {
@@ -129,6 +233,13 @@ export const jobView: View = (root, route, signal) => {
   async function loadResult(): Promise<void> {
     try {
       const result: ResultSummary = await client.getResult(id, { signal });
+      let charges: SceneCharge[] = [];
+      try {
+        const scene = await client.getScene(id, { signal }) as { charges?: SceneCharge[] };
+        charges = scene.charges ?? [];
+      } catch (error) {
+        if (isAbort(error)) return;  // without the scene, no pulse section
+      }
       mount(warnings,
         h("h2", null, "Warnings"),
         result.warnings.length === 0 ? h("p", { class: "muted" }, "None.") :
@@ -137,7 +248,9 @@ export const jobView: View = (root, route, signal) => {
         h("h2", null, "Result"),
         h("p", null, `${result.bodies.length} bodies, ${result.animated.length} moving; ` +
                      `${result.frame_count} frames over ${num(result.duration, 4)} s.`),
-        shieldingSection(result));
+        fractureSection(result),
+        shieldingSection(result),
+        pulseSection(result, charges, signal));
     } catch (error) {
       if (!isAbort(error)) mount(warnings, errorBox(error));
     }

@@ -623,24 +623,38 @@ io::FrameSet JobService::result_frame_set(std::string_view id, const ResultLayou
   return frames;
 }
 
-std::string JobService::result_meshes_json(std::string_view id) {
+std::vector<engine::BodyInfo> JobService::stored_bodies(std::string_view id,
+                                                        std::vector<bool>* animated) {
   const std::vector<StoredBody> stored = storage_.result_bodies(id);
   std::vector<engine::BodyInfo> bodies;
-  std::vector<bool> animated;
   bodies.reserve(stored.size());
   for (const StoredBody& body : stored) {
     bodies.push_back(body_info(body));
-    animated.push_back(body.animated);
+    if (animated) animated->push_back(body.animated);
   }
+  // Each body's material and whether it is a fragment live in the summary (results stored
+  // before they were recorded have neither: no material, not a fragment).
+  if (const std::optional<std::string> summary_text = storage_.result_summary(id)) {
+    const json summary = json::parse(*summary_text);
+    const json& listed = summary.at("bodies");
+    for (std::size_t b = 0; b < bodies.size() && b < listed.size(); ++b) {
+      bodies[b].material = listed[b].value("material", std::string());
+      bodies[b].fragment = listed[b].value("fragment", false);
+    }
+  }
+  return bodies;
+}
+
+std::string JobService::result_meshes_json(std::string_view id) {
+  std::vector<bool> animated;
+  const std::vector<engine::BodyInfo> bodies = stored_bodies(id, &animated);
   return io::meshes_document_json(bodies, animated);
 }
 
 std::optional<std::vector<std::uint8_t>> JobService::result_glb(std::string_view id) {
   const std::optional<ResultLayout> layout = result_layout(id);
   if (!layout) return std::nullopt;
-  std::vector<engine::BodyInfo> bodies;
-  for (const StoredBody& body : storage_.result_bodies(id))
-    bodies.push_back(body_info(body));
+  const std::vector<engine::BodyInfo> bodies = stored_bodies(id, nullptr);
   return io::to_glb(bodies,
                     animation_frames(storage_.result_frames(id, 0, INT64_MAX), layout->animated));
 }

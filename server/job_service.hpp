@@ -206,6 +206,9 @@ class JobService {
 
  private:
   std::int64_t queued_estimate();
+  // The stored bodies of a result with their meshes, materials and fragment flags (and, with
+  // `animated`, whether each moves).
+  std::vector<engine::BodyInfo> stored_bodies(std::string_view id, std::vector<bool>* animated);
   void forget_queued_count();  // the next submission counts again (room was made)
   void signal_work();
 

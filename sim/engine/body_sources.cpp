@@ -30,6 +30,7 @@ Box world_box(const BodySource& source) {
 BodySource object_source(const scene::ObjectSpec& object, double max_panel_area_m2) {
   BodySource source;
   source.name = object.name;
+  source.material = object.material;
   source.mesh = object.mesh;
   source.position = object.position;
   source.orientation = object.orientation;

@@ -45,6 +45,7 @@ blast::Charge blast_charge(const scene::ChargeSpec& spec);
 // every body from this list the same way.
 struct BodySource {
   std::string name;
+  std::string material;                 // the materials table's name, or "" (given density)
   geometry::TriangleMesh mesh;          // shape frame
   Vec3 position = Vec3::Zero();         // world position of the shape's origin, m
   Quat orientation = Quat::Identity();  // shape to world, as given (not normalised)

@@ -195,6 +195,7 @@ PaneReport break_pane(const scene::ObjectSpec& object, std::size_t index,
       v -= half;
     BodySource body;
     body.name = object.name + "/f" + std::to_string(k);
+    body.material = object.material;
     body.fragment = true;
     body.blocks = false;  // the glass the wave itself breaks shields nothing behind it
     body.frontal_area_m2 = piece.area_m2;

@@ -220,6 +220,8 @@ Model prepare(const scene::Scene& scene, std::vector<BodySource>& sources,
   for (std::size_t b = 0; b < sources.size(); ++b) {
     BodyInfo info;
     info.name = std::move(sources[b].name);
+    info.material = std::move(sources[b].material);
+    info.fragment = sources[b].fragment;
     info.mass_kg = sources[b].mass_kg;
     info.mesh = std::move(sources[b].mesh);
     info.initial_pose = origin_pose(model, b, model.initial_states[b]);

@@ -20,6 +20,8 @@ struct Pose {
 
 struct BodyInfo {
   std::string name;
+  std::string material;   // the materials table's name, or "" (a density or mass was given)
+  bool fragment = false;  // a piece of a broken pane: its side walls are crack faces
   double mass_kg = 0.0;
   geometry::TriangleMesh mesh;  // in the shape's own frame
   Pose initial_pose;            // also the pose for every frame if the body never moves

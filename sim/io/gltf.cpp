@@ -40,10 +40,37 @@ constexpr int kModeTriangles = 4;
 // at most 65535 vertices, numbered 0..65534.
 constexpr std::size_t kMaxVerticesShortIndices = 65535;
 
-// Neutral light grey, dielectric and fairly rough: reads as bare concrete or painted metal.
-constexpr std::array<double, 4> kBaseColour{0.72, 0.72, 0.70, 1.0};
-constexpr double kMetallic = 0.0;
-constexpr double kRoughness = 0.8;
+// The look of each kind of material (docs/pipelines.md "What result.glb holds"): chosen to read
+// well in a viewer, not measured. Glass blends (alpha), seen from both sides; the crack faces of
+// a broken pane's fragments are their own, frostier material.
+struct Look {
+  const char* name;
+  std::array<double, 4> colour;  // linear RGBA
+  double metallic;
+  double roughness;
+  bool blend;  // alphaMode BLEND and doubleSided
+};
+enum class LookKind { plain, glass, crack_faces, brick, masonry, metal, wood, kCount };
+constexpr std::array<Look, static_cast<std::size_t>(LookKind::kCount)> kLooks{{
+    {"default", {0.72, 0.72, 0.70, 1.0}, 0.0, 0.8, false},  // bare concrete or painted metal
+    {"glass", {0.62, 0.80, 0.86, 0.30}, 0.0, 0.05, true},
+    {"glass crack faces", {0.90, 0.96, 0.98, 0.80}, 0.0, 0.35, true},
+    {"brick", {0.55, 0.22, 0.14, 1.0}, 0.0, 0.9, false},
+    {"masonry", {0.60, 0.59, 0.56, 1.0}, 0.0, 0.95, false},
+    {"metal", {0.62, 0.63, 0.65, 1.0}, 1.0, 0.35, false},
+    {"wood", {0.45, 0.28, 0.14, 1.0}, 0.0, 0.7, false},
+}};
+
+// The look of a body made of `material` (the materials table's name, or "").
+LookKind look_of(std::string_view material) {
+  if (material.find("glass") != std::string_view::npos) return LookKind::glass;
+  if (material == "brick") return LookKind::brick;
+  if (material == "concrete" || material == "stone" || material == "granite")
+    return LookKind::masonry;
+  if (material == "steel" || material == "aluminium") return LookKind::metal;
+  if (material == "wood") return LookKind::wood;
+  return LookKind::plain;
+}
 
 void append_u16(std::vector<std::uint8_t>& bytes, std::uint16_t value) {
   bytes.push_back(static_cast<std::uint8_t>(value & 0xFFu));
@@ -164,19 +191,73 @@ class GlbBuilder {
   }
 
   std::size_t add_times_accessor(const std::vector<double>& times_s);
+  // One primitive of the triangles `which` of `mesh` (flat shaded, about `pivot`) in `look`.
+  json add_primitive(const geometry::TriangleMesh& mesh, const std::vector<std::size_t>& which,
+                     const geometry::Vec3& pivot, LookKind look);
+  // The glTF material index of `look`: materials are written as the meshes first use them.
+  std::size_t material(LookKind look);
 
   std::array<ViewData, static_cast<std::size_t>(View::kCount)> views_;
   std::vector<Accessor> accessors_;
+  std::array<std::optional<std::size_t>, static_cast<std::size_t>(LookKind::kCount)> material_of_;
+  json materials_ = json::array();
   json meshes_ = json::array();
   json animations_ = json::array();
 };
+
+std::size_t GlbBuilder::material(LookKind look) {
+  std::optional<std::size_t>& index = material_of_[static_cast<std::size_t>(look)];
+  if (!index) {
+    const Look& l = kLooks[static_cast<std::size_t>(look)];
+    json entry = {{"name", l.name},
+                  {"pbrMetallicRoughness",
+                   {{"baseColorFactor", l.colour},
+                    {"metallicFactor", l.metallic},
+                    {"roughnessFactor", l.roughness}}}};
+    if (l.blend) {
+      entry["alphaMode"] = "BLEND";
+      entry["doubleSided"] = true;
+    }
+    materials_.push_back(std::move(entry));
+    index = materials_.size() - 1;
+  }
+  return *index;
+}
 
 std::optional<std::size_t> GlbBuilder::add_mesh(const engine::BodyInfo& body,
                                                 const geometry::Vec3& pivot) {
   const geometry::TriangleMesh& mesh = body.mesh;
   if (mesh.triangles.empty()) return std::nullopt;
-  const std::size_t vertex_count = 3 * mesh.triangles.size();
+  const LookKind look = look_of(body.material);
+  json primitives = json::array();
+  if (body.fragment && look == LookKind::glass) {
+    // A fragment is a prism of the pane's thickness along its shape z: the triangles facing
+    // along z are the pane's faces, the others its side walls, cracks (or the pane's edge).
+    std::vector<std::size_t> faces, walls;
+    for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+      const auto& triangle = mesh.triangles[t];
+      const geometry::Vec3 normal =
+          (mesh.vertices[triangle[1]] - mesh.vertices[triangle[0]])
+              .cross(mesh.vertices[triangle[2]] - mesh.vertices[triangle[0]]);
+      (std::abs(normal.z()) >= 0.5 * normal.norm() ? faces : walls).push_back(t);
+    }
+    if (!faces.empty()) primitives.push_back(add_primitive(mesh, faces, pivot, LookKind::glass));
+    if (!walls.empty())
+      primitives.push_back(add_primitive(mesh, walls, pivot, LookKind::crack_faces));
+  } else {
+    std::vector<std::size_t> all(mesh.triangles.size());
+    for (std::size_t t = 0; t < all.size(); ++t)
+      all[t] = t;
+    primitives.push_back(add_primitive(mesh, all, pivot, look));
+  }
+  meshes_.push_back({{"name", body.name}, {"primitives", std::move(primitives)}});
+  return meshes_.size() - 1;
+}
 
+json GlbBuilder::add_primitive(const geometry::TriangleMesh& mesh,
+                               const std::vector<std::size_t>& which, const geometry::Vec3& pivot,
+                               LookKind look) {
+  const std::size_t vertex_count = 3 * which.size();
   std::vector<std::uint8_t>& positions = view(View::kPositions).bytes;
   std::vector<std::uint8_t>& normals = view(View::kNormals).bytes;
   const std::size_t position_offset = positions.size();
@@ -185,7 +266,8 @@ std::optional<std::size_t> GlbBuilder::add_mesh(const engine::BodyInfo& body,
   std::array<float, 3> max_f;
   min_f.fill(std::numeric_limits<float>::infinity());
   max_f.fill(-std::numeric_limits<float>::infinity());
-  for (const auto& triangle : mesh.triangles) {
+  for (const std::size_t t : which) {
+    const auto& triangle = mesh.triangles[t];
     assert(triangle[0] < mesh.vertices.size() && triangle[1] < mesh.vertices.size() &&
            triangle[2] < mesh.vertices.size());
     const geometry::Vec3& a = mesh.vertices[triangle[0]];
@@ -233,12 +315,10 @@ std::optional<std::size_t> GlbBuilder::add_mesh(const engine::BodyInfo& body,
         {View::kIndices32, offset, kComponentUnsignedInt, vertex_count, "SCALAR", {}, {}});
   }
 
-  json primitive = {{"attributes", {{"POSITION", position_accessor}, {"NORMAL", normal_accessor}}},
-                    {"indices", index_accessor},
-                    {"material", 0},
-                    {"mode", kModeTriangles}};
-  meshes_.push_back({{"name", body.name}, {"primitives", json::array({std::move(primitive)})}});
-  return meshes_.size() - 1;
+  return {{"attributes", {{"POSITION", position_accessor}, {"NORMAL", normal_accessor}}},
+          {"indices", index_accessor},
+          {"material", material(look)},
+          {"mode", kModeTriangles}};
 }
 
 // The sampler input: frame times as floats, strictly increasing as the spec requires. Should
@@ -362,11 +442,7 @@ std::vector<std::uint8_t> GlbBuilder::finish(json nodes, std::size_t node_count)
   if (node_count > 0) gltf["nodes"] = std::move(nodes);
   if (!meshes_.empty()) {
     gltf["meshes"] = std::move(meshes_);
-    gltf["materials"] = json::array({{{"name", "default"},
-                                      {"pbrMetallicRoughness",
-                                       {{"baseColorFactor", kBaseColour},
-                                        {"metallicFactor", kMetallic},
-                                        {"roughnessFactor", kRoughness}}}}});
+    gltf["materials"] = std::move(materials_);
   }
   if (!accessors.empty()) gltf["accessors"] = std::move(accessors);
   if (!buffer.empty()) {

@@ -16,6 +16,8 @@ using nlohmann::json;
 json body_entry(std::size_t index, const engine::BodyInfo& body, bool animated) {
   return json{{"index", index},
               {"name", body.name},
+              {"material", body.material},
+              {"fragment", body.fragment},
               {"mass", body.mass_kg},
               {"animated", animated},
               {"position", body.initial_pose.position},

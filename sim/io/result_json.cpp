@@ -39,6 +39,8 @@ json mesh_to_json(const geometry::TriangleMesh& mesh) {
 // One entry of "bodies"; `animated` says whether the body's index is in result.animated.
 json body_to_json(const engine::BodyInfo& body, bool animated) {
   return json{{"name", body.name},
+              {"material", body.material},
+              {"fragment", body.fragment},
               {"mass", body.mass_kg},
               {"mesh", mesh_to_json(body.mesh)},
               {"animated", animated},

@@ -385,6 +385,14 @@ try {
     check(start.vivid > 6000, `the window shows in only ${start.vivid} coloured pixels`);
     check(start.colours > 30, `only ${start.colours} colours: blank or flat canvas`);
     await shot(page, "player-window");
+    // The file's own materials: translucent glass with frosted crack faces in a wooden frame,
+    // none of the ramp's colours, the pane still drawn.
+    await page.selectOption("#colour-by", "material");
+    await page.waitForTimeout(300);
+    const own = analyse(await page.locator("#player-canvas").screenshot({ path: path.join(artifacts, "player-window-material.png") }));
+    console.log(`     window in its materials: ${own.vivid} vivid pixels, ${(own.differing * 100).toFixed(1)} % drawn`);
+    check(own.vivid < start.vivid / 2, `material colours still show ${own.vivid} ramp-coloured pixels`);
+    check(own.differing > 0.005, `the window in its materials covers only ${(own.differing * 100).toFixed(2)} %`);
   });
 
   await test("blast calculator plots P_so, i_s and t_a on log-log axes", page, async () => {

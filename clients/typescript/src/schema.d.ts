@@ -982,12 +982,18 @@ export interface components {
             /** @description Contact points between bodies solved, summed over steps. */
             contact_points: number;
         };
+        /** @description The body's material from the materials table (docs/scene-format.md; names such as `brick`, `annealed_glass`), or empty when the scene gave a density or mass instead. A fragment has its pane's material. `result.glb` draws bodies by it (docs/pipelines.md). Absent from results stored before it was recorded. */
+        BodyMaterial: string;
+        /** @description A piece of a broken pane: its side walls are crack faces (their own material in `result.glb`). Absent from results stored before it was recorded. */
+        BodyFragment: boolean;
         /** @description A body of the result, at its initial pose. */
         ResultBody: {
             /** @description Its index, as frames and `bodies=` use it. */
             index: number;
             /** @description The object's name (generated objects `<name>/r<row>/b<index>` and the like). */
             name: string;
+            material?: components["schemas"]["BodyMaterial"];
+            fragment?: components["schemas"]["BodyFragment"];
             /** @description kg. */
             mass: number;
             /** @description Whether it moves; frames store poses only for animated bodies. */
@@ -1169,6 +1175,8 @@ export interface components {
         MeshBody: {
             index: number;
             name: string;
+            material?: components["schemas"]["BodyMaterial"];
+            fragment?: components["schemas"]["BodyFragment"];
             /** @description kg. */
             mass: number;
             animated: boolean;

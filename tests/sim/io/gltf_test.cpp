@@ -231,6 +231,60 @@ TEST(Glb, MeshesAreFlatShadedWithExactBoundsAndFaceNormals) {
   }
 }
 
+// Materials follow each body's material: glass blends and is seen from both sides, a glass
+// fragment's side walls (its crack faces) are a second primitive in their own material, and
+// each look is written once, in the order the meshes first use it.
+TEST(Glb, MaterialsFollowTheBodysMaterialAndFragmentsCarryTheirCrackFaces) {
+  engine::Result result;
+  const auto add = [&](const char* name, const char* material, bool fragment) {
+    engine::BodyInfo body;
+    body.name = name;
+    body.material = material;
+    body.fragment = fragment;
+    body.mass_kg = 1.0;
+    body.mesh = box(0.2, 0.1, 0.003);  // a 6 mm slab, thin along z as fragments are
+    result.bodies.push_back(body);
+  };
+  add("pane/f0", "annealed_glass", true);
+  add("brick", "brick", false);
+  add("pane", "tempered_glass", false);  // an unbroken pane: one primitive, glass
+  add("crate", "", false);
+  add("pane/f1", "glass", true);
+  const Glb glb = parsed(result);
+  const json& materials = glb.gltf["materials"];
+  std::vector<std::string> names;
+  for (const json& m : materials)
+    names.push_back(m["name"]);
+  EXPECT_EQ(names, (std::vector<std::string>{"glass", "glass crack faces", "brick", "default"}));
+  EXPECT_EQ(materials[0]["alphaMode"], "BLEND");
+  EXPECT_EQ(materials[0]["doubleSided"], true);
+  EXPECT_LT(materials[0]["pbrMetallicRoughness"]["baseColorFactor"][3].get<double>(), 1.0);
+  EXPECT_FALSE(materials[2].contains("alphaMode"));  // brick is opaque
+
+  const json& meshes = glb.gltf["meshes"];
+  const auto material_of = [&](std::size_t mesh, std::size_t primitive) {
+    return meshes[mesh]["primitives"][primitive]["material"].get<std::size_t>();
+  };
+  const auto triangles = [&](std::size_t mesh, std::size_t primitive) {
+    const std::size_t indices = meshes[mesh]["primitives"][primitive]["indices"];
+    return glb.gltf["accessors"][indices]["count"].get<std::size_t>() / 3;
+  };
+  // A box of 12 triangles: 4 face the thin axis (front and back), 8 are its side walls.
+  for (const std::size_t fragment : {0u, 4u}) {
+    ASSERT_EQ(meshes[fragment]["primitives"].size(), 2u);
+    EXPECT_EQ(material_of(fragment, 0), 0u);
+    EXPECT_EQ(triangles(fragment, 0), 4u);
+    EXPECT_EQ(material_of(fragment, 1), 1u);
+    EXPECT_EQ(triangles(fragment, 1), 8u);
+  }
+  ASSERT_EQ(meshes[1]["primitives"].size(), 1u);
+  EXPECT_EQ(material_of(1, 0), 2u);
+  ASSERT_EQ(meshes[2]["primitives"].size(), 1u);
+  EXPECT_EQ(material_of(2, 0), 0u);
+  EXPECT_EQ(triangles(2, 0), 12u);
+  EXPECT_EQ(material_of(3, 0), 3u);
+}
+
 TEST(Glb, NodesPivotAtTheirBodysCentreOfMassWithoutMovingAnything) {
   // A fragment's shape frame is its pane's centre: here a box whose centre of mass lies at c
   // in its shape frame, turned, and animated. Its node must sit at the centre of mass, and every

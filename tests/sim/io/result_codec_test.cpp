@@ -23,6 +23,8 @@ engine::Result small_result() {
   engine::Result result;
   engine::BodyInfo shard;
   shard.name = "shard";
+  shard.material = "annealed_glass";
+  shard.fragment = true;
   shard.mass_kg = 2.5;
   shard.mesh.vertices = {{0.0, 0.0, 0.0}, {1.0, 0.0, 0.0}, {0.0, 0.5, 0.0}};
   shard.mesh.triangles = {{0, 1, 2}};
@@ -66,9 +68,11 @@ std::string hex(const std::uint8_t* bytes, std::size_t size) {
 
 TEST(ResultCodec, SummaryIsPinned) {
   EXPECT_EQ(result_summary(small_result()).dump(),
-            "{\"animated\":[0],\"bodies\":[{\"animated\":true,\"index\":0,\"mass\":2.5,\"name\":\""
+            "{\"animated\":[0],\"bodies\":[{\"animated\":true,\"fragment\":true,\"index\":0,\"ma"
+            "ss\":2.5,\"material\":\"annealed_glass\",\"name\":\""
             "shard\",\"orientation\":[0.0,0.0,0.0,1.0],\"position\":[0.0,1.0,2.0]},{\"animated\":"
-            "false,\"index\":1,\"mass\":1.0,\"name\":\"marker\",\"orientation\":[0.0,0.0,1.0,0.0]"
+            "false,\"fragment\":false,\"index\":1,\"mass\":1.0,\"material\":\"\",\"name\":\"ma"
+            "rker\",\"orientation\":[0.0,0.0,1.0,0.0]"
             ",\"position\":[-1.0,0.0,0.25]}],\"duration\":0.5,\"final_state\":[{\"angular_velocit"
             "y\":[0.0,0.0,0.5],\"linear_velocity\":[0.0,1.0,0.0],\"name\":\"shard\",\"orientation"
             "\":[0.5,0.5,0.5,0.5],\"position\":[0.0,1.5,2.0]},{\"angular_velocity\":[0.0,0.0,0.0]"
@@ -89,10 +93,12 @@ TEST(ResultCodec, SummaryIsPinned) {
 TEST(ResultCodec, MeshesDocumentIsPinned) {
   const engine::Result result = small_result();
   EXPECT_EQ(meshes_document_json(result.bodies, {true, false}),
-            "{\"bodies\":[{\"animated\":true,\"index\":0,\"mass\":2.5,\"mesh\":{\"triangles\":[[0"
+            "{\"bodies\":[{\"animated\":true,\"fragment\":true,\"index\":0,\"mass\":2.5,\"materi"
+            "al\":\"annealed_glass\",\"mesh\":{\"triangles\":[[0"
             ",1,2]],\"vertices\":[[0.0,0.0,0.0],[1.0,0.0,0.0],[0.0,0.5,0.0]]},\"name\":\"shard\","
             "\"orientation\":[0.0,0.0,0.0,1.0],\"position\":[0.0,1.0,2.0]},{\"animated\":false,\""
-            "index\":1,\"mass\":1.0,\"mesh\":{\"triangles\":[],\"vertices\":[]},\"name\":\"marker"
+            "fragment\":false,\"index\":1,\"mass\":1.0,\"material\":\"\",\"mesh\":{\"triangles\":[]"
+            ",\"vertices\":[]},\"name\":\"marker"
             "\",\"orientation\":[0.0,0.0,1.0,0.0],\"position\":[-1.0,0.0,0.25]}]}");
 }
 
@@ -114,32 +120,32 @@ TEST(ResultCodec, GlbIsPinned) {
   const std::string json_chunk(reinterpret_cast<const char*>(glb.data()) + 20, json_length);
   // The shard's node sits at its centre of mass (the triangle's centroid, 1/3 and 1/6 along x
   // and y from its shape origin at (0, 1, 2)); its vertices and samples are shifted to match.
-  EXPECT_EQ(
-      json_chunk,
-      "{\"accessors\":[{\"bufferView\":0,\"byteOffset\":0,\"componentType\":5126,\"count\":3,"
-      "\"max\":[0.6666666865348816,0.3333333432674408,0.0],\"min\":[-0.3333333432674408,-0.16"
-      "66666716337204,0.0],\"type\":\"VEC3\"},{\"bufferView\":1,\"byteOffset\":0,\"componentT"
-      "ype\":5126,\"count\":3,\"type\":\"VEC3\"},{\"bufferView\":2,\"byteOffset\":0,\"compone"
-      "ntType\":5123,\"count\":3,\"type\":\"SCALAR\"},{\"bufferView\":3,\"byteOffset\":0,\"co"
-      "mponentType\":5126,\"count\":2,\"max\":[0.5],\"min\":[0.0],\"type\":\"SCALAR\"},{\"buf"
-      "ferView\":4,\"byteOffset\":0,\"componentType\":5126,\"count\":2,\"type\":\"VEC3\"},{\""
-      "bufferView\":5,\"byteOffset\":0,\"componentType\":5126,\"count\":2,\"type\":\"VEC4\"}]"
-      ",\"animations\":[{\"channels\":[{\"sampler\":0,\"target\":{\"node\":0,\"path\":\"trans"
-      "lation\"}},{\"sampler\":1,\"target\":{\"node\":0,\"path\":\"rotation\"}}],\"name\":\"b"
-      "last\",\"samplers\":[{\"input\":3,\"interpolation\":\"LINEAR\",\"output\":4},{\"input\""
-      ":3,\"interpolation\":\"LINEAR\",\"output\":5}]}],\"asset\":{\"generator\":\"Brisance\""
-      ",\"version\":\"2.0\"},\"bufferViews\":[{\"buffer\":0,\"byteLength\":36,\"byteOffset\":"
-      "0,\"byteStride\":12,\"target\":34962},{\"buffer\":0,\"byteLength\":36,\"byteOffset\":3"
-      "6,\"byteStride\":12,\"target\":34962},{\"buffer\":0,\"byteLength\":6,\"byteOffset\":72"
-      ",\"target\":34963},{\"buffer\":0,\"byteLength\":8,\"byteOffset\":80},{\"buffer\":0,\"b"
-      "yteLength\":24,\"byteOffset\":88},{\"buffer\":0,\"byteLength\":32,\"byteOffset\":112}]"
-      ",\"buffers\":[{\"byteLength\":144}],\"materials\":[{\"name\":\"default\",\"pbrMetallic"
-      "Roughness\":{\"baseColorFactor\":[0.72,0.72,0.7,1.0],\"metallicFactor\":0.0,\"roughnes"
-      "sFactor\":0.8}}],\"meshes\":[{\"name\":\"shard\",\"primitives\":[{\"attributes\":{\"NO"
-      "RMAL\":1,\"POSITION\":0},\"indices\":2,\"material\":0,\"mode\":4}]}],\"nodes\":[{\"mes"
-      "h\":0,\"name\":\"shard\",\"rotation\":[0.0,0.0,0.0,1.0],\"translation\":[0.33333333333"
-      "33333,1.1666666666666667,2.0]},{\"name\":\"marker\",\"rotation\":[0.0,0.0,1.0,0.0],\"t"
-      "ranslation\":[-1.0,0.0,0.25]}],\"scene\":0,\"scenes\":[{\"nodes\":[0,1]}]} ");
+  EXPECT_EQ(json_chunk,
+            "{\"accessors\":[{\"bufferView\":0,\"byteOffset\":0,\"componentType\":5126,\"count\":3,"
+            "\"max\":[0.6666666865348816,0.3333333432674408,0.0],\"min\":[-0.3333333432674408,-0.16"
+            "66666716337204,0.0],\"type\":\"VEC3\"},{\"bufferView\":1,\"byteOffset\":0,\"componentT"
+            "ype\":5126,\"count\":3,\"type\":\"VEC3\"},{\"bufferView\":2,\"byteOffset\":0,\"compone"
+            "ntType\":5123,\"count\":3,\"type\":\"SCALAR\"},{\"bufferView\":3,\"byteOffset\":0,\"co"
+            "mponentType\":5126,\"count\":2,\"max\":[0.5],\"min\":[0.0],\"type\":\"SCALAR\"},{\"buf"
+            "ferView\":4,\"byteOffset\":0,\"componentType\":5126,\"count\":2,\"type\":\"VEC3\"},{\""
+            "bufferView\":5,\"byteOffset\":0,\"componentType\":5126,\"count\":2,\"type\":\"VEC4\"}]"
+            ",\"animations\":[{\"channels\":[{\"sampler\":0,\"target\":{\"node\":0,\"path\":\"trans"
+            "lation\"}},{\"sampler\":1,\"target\":{\"node\":0,\"path\":\"rotation\"}}],\"name\":\"b"
+            "last\",\"samplers\":[{\"input\":3,\"interpolation\":\"LINEAR\",\"output\":4},{\"input"
+            "\":3,\"interpolation\":\"LINEAR\",\"output\":5}]}],\"asset\":{\"generator\":\"Brisance"
+            "\",\"version\":\"2.0\"},\"bufferViews\":[{\"buffer\":0,\"byteLength\":36,\"byteOffset"
+            "\":0,\"byteStride\":12,\"target\":34962},{\"buffer\":0,\"byteLength\":36,\"byteOffset"
+            "\":36,\"byteStride\":12,\"target\":34962},{\"buffer\":0,\"byteLength\":6,\"byteOffset"
+            "\":72,\"target\":34963},{\"buffer\":0,\"byteLength\":8,\"byteOffset\":80},{\"buffer\":"
+            "0,\"byteLength\":24,\"byteOffset\":88},{\"buffer\":0,\"byteLength\":32,\"byteOffset\":"
+            "112}],\"buffers\":[{\"byteLength\":144}],\"materials\":[{\"alphaMode\":\"BLEND\",\"dou"
+            "bleSided\":true,\"name\":\"glass\",\"pbrMetallicRoughness\":{\"baseColorFactor\":[0.62"
+            ",0.8,0.86,0.3],\"metallicFactor\":0.0,\"roughnessFactor\":0.05}}],\"meshes\":[{\"name"
+            "\":\"shard\",\"primitives\":[{\"attributes\":{\"NORMAL\":1,\"POSITION\":0},\"indices\""
+            ":2,\"material\":0,\"mode\":4}]}],\"nodes\":[{\"mesh\":0,\"name\":\"shard\",\"rotation"
+            "\":[0.0,0.0,0.0,1.0],\"translation\":[0.3333333333333333,1.1666666666666667,2.0]},{\"n"
+            "ame\":\"marker\",\"rotation\":[0.0,0.0,1.0,0.0],\"translation\":[-1.0,0.0,0.25]}],\"sc"
+            "ene\":0,\"scenes\":[{\"nodes\":[0,1]}]}   ");
   const std::size_t bin = 20 + json_length;
   EXPECT_EQ(hex(glb.data() + bin, glb.size() - bin),
             "9000000042494e00abaaaabeabaa2abe00000000abaa2a3fabaa2abe00000000abaaaabeabaaaa3e"

@@ -69,9 +69,12 @@ TriangleMesh tetrahedron(double size_m) {
   return mesh;
 }
 
-BodyInfo body(std::string name, TriangleMesh mesh, const std::array<double, 3>& position) {
+BodyInfo body(std::string name, TriangleMesh mesh, const std::array<double, 3>& position,
+              std::string material = "", bool fragment = false) {
   BodyInfo info;
   info.name = std::move(name);
+  info.material = std::move(material);
+  info.fragment = fragment;
   info.mass_kg = 10.0;
   info.mesh = std::move(mesh);
   info.initial_pose.position = position;
@@ -87,8 +90,10 @@ std::array<double, 4> about_axis(const Vec3& axis, double angle_rad) {
 Result static_only() {
   Result result;
   result.bodies.push_back(body("ground", tessellated_box(Vec3(10, 0.25, 10), 1), {0, -0.25, 0}));
-  result.bodies.push_back(body("wall", tessellated_box(Vec3(3, 1.5, 0.1), 4), {0, 1.5, -4}));
-  result.bodies.push_back(body("column", tessellated_box(Vec3(0.2, 2, 0.2), 2), {2, 2, -2}));
+  result.bodies.push_back(
+      body("wall", tessellated_box(Vec3(3, 1.5, 0.1), 4), {0, 1.5, -4}, "concrete"));
+  result.bodies.push_back(
+      body("column", tessellated_box(Vec3(0.2, 2, 0.2), 2), {2, 2, -2}, "steel"));
   result.bodies.back().initial_pose.orientation = about_axis(Vec3::UnitY(), 0.5);
   return result;
 }
@@ -103,9 +108,11 @@ Result animated(int body_count, int animated_count, int frame_count) {
     const double x = -4.5 + (i % 10);
     const double z = -2.0 - (i / 10);
     result.bodies.push_back(
-        i % 2 ? body("fragment_" + std::to_string(i), tetrahedron(0.3), {x, 0.5, z})
+        // Glass fragments (two primitives: faces and crack faces) and bricks: every material.
+        i % 2 ? body("fragment_" + std::to_string(i), tetrahedron(0.3), {x, 0.5, z},
+                     "annealed_glass", true)
               : body("block_" + std::to_string(i), tessellated_box(Vec3(0.3, 0.2, 0.1), 1),
-                     {x, 0.2, z}));
+                     {x, 0.2, z}, "brick"));
   }
   for (int i = body_count - animated_count; i < body_count; ++i)
     result.animated.push_back(static_cast<std::uint32_t>(i));

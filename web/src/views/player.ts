@@ -31,7 +31,7 @@ function ramp(t: number): Color {
   return new Color().setHSL((1 - Math.min(1, Math.max(0, t))) * 0.66, 0.75, 0.55);
 }
 
-type ColourMode = "body" | "release" | "speed";
+type ColourMode = "material" | "body" | "release" | "speed";
 
 /** Per body index, the value a colour mode shows (null: not shown, tinted by name). */
 function valuesFor(mode: ColourMode, result: ResultSummary): (number | null)[] {
@@ -80,10 +80,14 @@ export const playerView: View = async (root, route, signal) => {
   // the loader sanitises them: "window/pane/f3" becomes "window_pane_f3").
   const bodyIndex = new Map(result.bodies.map((body) => [PropertyBinding.sanitizeNodeName(body.name), body.index]));
   const meshesOf: Mesh[][] = result.bodies.map(() => []);
+  // Each mesh's own look from the file (glass blends, crack faces are frostier), restored by the
+  // "material" colour mode; the other modes paint opaque colours over it.
+  const looks = new Map<MeshStandardMaterial, { color: Color; opacity: number; transparent: boolean }>();
   gltf.scene.traverse((node: Object3D) => {
     if (node instanceof Mesh) {
       const material = (node.material as Material).clone() as MeshStandardMaterial;
       material.side = DoubleSide;  // a 6 mm fragment seen edge-on or from behind is still drawn
+      looks.set(material, { color: material.color.clone(), opacity: material.opacity, transparent: material.transparent });
       node.material = material;
       const index = bodyIndex.get(node.name) ?? bodyIndex.get(node.parent?.name ?? "");
       if (index !== undefined) meshesOf[index]?.push(node);
@@ -98,9 +102,17 @@ export const playerView: View = async (root, route, signal) => {
       const value = values[b] ?? null;
       const c = value === null ? tint(result.bodies[b]?.name ?? "")
         : ramp(high > low ? (value - low) / (high - low) : 0.5);
-      for (const mesh of meshes) (mesh.material as MeshStandardMaterial).color = c;
+      for (const mesh of meshes) {
+        const material = mesh.material as MeshStandardMaterial;
+        const look = looks.get(material);
+        const own = mode === "material" && look !== undefined;
+        material.color = own ? look.color.clone() : c;
+        material.opacity = own ? look.opacity : 1;
+        material.transparent = own ? look.transparent : false;
+        material.needsUpdate = true;
+      }
     });
-    if (mode === "body" || shown.length === 0) {
+    if (mode === "body" || mode === "material" || shown.length === 0) {
       legend.hidden = true;
       return;
     }
@@ -112,6 +124,7 @@ export const playerView: View = async (root, route, signal) => {
   };
   const broken = (result.fracture ?? []).some((pane) => pane.broken);
   const colourBy = h("select", { id: "colour-by", "aria-label": "Colour by", onchange: () => colour(colourBy.value as ColourMode) },
+    h("option", { value: "material" }, "Colour: material (as in the .glb)"),
     h("option", { value: "body", selected: !broken }, "Colour: by body"),
     h("option", { value: "release", selected: broken, disabled: !broken }, "Colour: fragment release time"),
     h("option", { value: "speed" }, "Colour: speed at the end"));

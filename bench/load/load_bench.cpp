@@ -77,6 +77,9 @@ constexpr std::string_view kHelp =
     "  --workers W          simulation workers of the spawned server (default 1)\n"
     "  --store URL          the spawned server's --store (default: its SQLite store in the\n"
     "                       temp dir); a postgres:// URL benches the PostgreSQL store\n"
+    "  --nodes N            spawn N servers on the one --store (a postgres:// URL when N > 1),\n"
+    "                       each with W workers; connection i goes to node i mod N, the\n"
+    "                       queue is read on node 1, srv CPU sums the nodes (default 1)\n"
     "  --connections C      keep-alive connections (default 32)\n"
     "  --jobs N             jobs submitted in the POST phase (default 5000)\n"
     "  --get-seconds S      length of the GET phase (default 5; 0 skips it)\n"
@@ -95,6 +98,7 @@ struct Options {
   int workers = 1;
   bool workers_set = false;
   std::string store;  // the spawned server's --store; empty: SQLite
+  int nodes = 1;      // servers spawned on the one store
   int connections = 32;
   long long jobs = 5000;
   double get_seconds = 5;
@@ -166,6 +170,8 @@ Options parse_options(int argc, char** argv) {
       o.workers_set = true;
     } else if (name == "store") {
       o.store = value();
+    } else if (name == "nodes") {
+      o.nodes = static_cast<int>(parse_integer(name, value(), 1, 16));
     } else if (name == "connections") {
       o.connections = static_cast<int>(parse_integer(name, value(), 1, 10000));
     } else if (name == "jobs") {
@@ -194,8 +200,11 @@ Options parse_options(int argc, char** argv) {
     usage_error(
         "give exactly one of --server PATH (spawn a server) or --port P (use a running one)");
   }
-  if (o.port != 0 && (o.workers_set || !o.store.empty())) {
-    usage_error("--workers and --store apply only to a server spawned with --server");
+  if (o.port != 0 && (o.workers_set || !o.store.empty() || o.nodes > 1)) {
+    usage_error("--workers, --store and --nodes apply only to servers spawned with --server");
+  }
+  if (o.nodes > 1 && o.store.rfind("postgres", 0) != 0) {
+    usage_error("--nodes above 1 needs a shared --store postgres://… URL");
   }
   return o;
 }
@@ -630,21 +639,30 @@ double machine_cpu_seconds() {
 // CPU use of the client, the server and everything else over a phase.
 class CpuMeter {
  public:
-  explicit CpuMeter(pid_t server) : server_(server) {
+  // `servers`: the spawned nodes, whose CPU is summed (none with --port: unknown).
+  explicit CpuMeter(std::vector<pid_t> servers) : servers_(std::move(servers)) {
     client_ = own_cpu_seconds();
-    server_start_ = process_cpu_seconds(server_);
+    server_start_ = servers_cpu_seconds();
     machine_ = machine_cpu_seconds();
   }
   void stop(Phase& phase) const {
     phase.client_cpu_s = own_cpu_seconds() - client_;
-    phase.server_cpu_s = process_cpu_seconds(server_) - server_start_;
+    phase.server_cpu_s = servers_cpu_seconds() - server_start_;
     const double others =
         machine_cpu_seconds() - machine_ - phase.client_cpu_s - phase.server_cpu_s;
     phase.other_cpu_s = std::isnan(others) ? others : std::max(0.0, others);
   }
 
  private:
-  pid_t server_;
+  double servers_cpu_seconds() const {
+    if (servers_.empty()) return std::nan("");
+    double sum = 0;
+    for (const pid_t pid : servers_)
+      sum += process_cpu_seconds(pid);
+    return sum;
+  }
+
+  std::vector<pid_t> servers_;
   double client_ = 0;
   double server_start_ = 0;
   double machine_ = 0;
@@ -659,16 +677,18 @@ struct QueueCounts {
 
 class Bench {
  public:
-  Bench(const Options& options, int port, std::string job_body)
+  // Connection i goes to ports[i mod ports.size()].
+  Bench(const Options& options, const std::vector<int>& ports, std::string job_body)
       : options_(options), job_body_(std::move(job_body)) {
-    const tcp::endpoint endpoint(asio::ip::make_address("127.0.0.1"),
-                                 static_cast<std::uint16_t>(port));
     for (int i = 0; i < options.connections; ++i) {
+      const tcp::endpoint endpoint(
+          asio::ip::make_address("127.0.0.1"),
+          static_cast<std::uint16_t>(ports[static_cast<std::size_t>(i) % ports.size()]));
       connections_.push_back(std::make_unique<Connection>(ioc_, endpoint));
     }
   }
 
-  // One request on the first connection, waited for.
+  // One request on the first connection (node 1), waited for.
   Response fetch(const Request& request) {
     Response out;
     connections_.front()->send(request, Clock::now(), [&out](Response&& r) { out = std::move(r); });
@@ -885,27 +905,36 @@ int run(const Options& options) {
   }
   const std::string body = json{{"scene", scene}, {"priority", 0}}.dump();
 
-  std::unique_ptr<ServerProcess> server;
-  int port = options.port;
+  // The spawned nodes (none with --port), all on options.store.
+  std::vector<std::unique_ptr<ServerProcess>> servers;
+  std::vector<int> ports;
   if (!options.server.empty()) {
-    try {
-      server = std::make_unique<ServerProcess>(options.server, options.workers, options.store);
-    } catch (const std::exception& e) {
-      std::cerr << "load_bench: " << e.what() << "\n";
-      return 1;
+    for (int n = 0; n < options.nodes; ++n) {
+      try {
+        servers.push_back(
+            std::make_unique<ServerProcess>(options.server, options.workers, options.store));
+      } catch (const std::exception& e) {
+        std::cerr << "load_bench: " << e.what() << "\n";
+        return 1;
+      }
+      ServerProcess& server = *servers.back();
+      const int port = server.wait_port(std::chrono::seconds(60));
+      if (port == 0) {
+        std::cerr << "load_bench: the server did not start listening (exit code "
+                  << server.exit_code() << "); its log:\n"
+                  << server.log_tail() << "\n";
+        return 1;
+      }
+      ports.push_back(port);
+      std::printf("server%s: %s (pid %d, port %d)\n",
+                  options.nodes > 1 ? (" " + std::to_string(n + 1)).c_str() : "",
+                  server.command().c_str(), static_cast<int>(server.pid()), port);
     }
-    port = server->wait_port(std::chrono::seconds(60));
-    if (port == 0) {
-      std::cerr << "load_bench: the server did not start listening (exit code "
-                << server->exit_code() << "); its log:\n"
-                << server->log_tail() << "\n";
-      return 1;
-    }
-    std::printf("server: %s (pid %d, port %d)\n", server->command().c_str(),
-                static_cast<int>(server->pid()), port);
   } else {
-    std::printf("server: 127.0.0.1:%d (already running)\n", port);
+    ports.push_back(options.port);
+    std::printf("server: 127.0.0.1:%d (already running)\n", options.port);
   }
+  const bool spawned = !servers.empty();
   std::printf(
       "load: %lld jobs of %s (%zu-byte body), %d connections, GET %.3g s, RATE %.6g req/s for "
       "%.3g s, drain %s\n",
@@ -913,7 +942,7 @@ int run(const Options& options) {
       options.get_seconds, options.rate, options.rate_seconds, options.drain ? "on" : "off");
   std::fflush(stdout);
 
-  Bench bench(options, port, body);
+  Bench bench(options, ports, body);
   bool failed = false;
   std::vector<std::string> problems;
 
@@ -927,11 +956,13 @@ int run(const Options& options) {
   }
   if (!baseline) {
     std::cerr << "load_bench: GET /v1/queue failed: " << error << "\n";
-    if (server) std::cerr << "server log:\n" << server->log_tail() << "\n";
+    if (spawned) std::cerr << "server log:\n" << servers.front()->log_tail() << "\n";
     return 1;
   }
 
-  const pid_t server_pid = server ? server->pid() : -1;
+  std::vector<pid_t> server_pid;
+  for (const auto& server : servers)
+    server_pid.push_back(server->pid());
   std::vector<Phase> phases;
   const auto post_start = Clock::now();
   {
@@ -1097,9 +1128,10 @@ int run(const Options& options) {
     std::snprintf(text, sizeof text, "%.0f /s", post_rate);
     goals.push_back({">= 2000 durable POST /v1/jobs per s", text,
                      post_rate >= 2000 && post_errors == 0,
-                     post_errors > 0 ? "with errors"
-                     : server        ? "server at --sync normal (default)"
-                                     : ""});
+                     post_errors > 0         ? "with errors"
+                     : !spawned              ? ""
+                     : options.store.empty() ? "server at --sync normal (default)"
+                                             : "PostgreSQL: durable as its synchronous_commit"});
   }
   if (get_rate) {
     char text[64];
@@ -1138,17 +1170,19 @@ int run(const Options& options) {
   }
   if (drain_jobs_per_s) std::printf("drain throughput: %.1f jobs/s\n", *drain_jobs_per_s);
 
-  if (server) {
-    const int code = server->terminate(std::chrono::seconds(60));
+  for (std::size_t n = 0; n < servers.size(); ++n) {
+    ServerProcess& server = *servers[n];
+    const std::string which = servers.size() > 1 ? "server " + std::to_string(n + 1) : "server";
+    const int code = server.terminate(std::chrono::seconds(60));
     if (code != 0) {
-      problems.push_back(code < 0
-                             ? "the server did not exit within 60 s of SIGTERM"
-                             : "the server exited with " + std::to_string(code) + " after SIGTERM");
-      std::printf("\nserver log (%s kept):\n%s\n", server->dir().c_str(),
-                  server->log_tail().c_str());
-      server->keep_dir();
+      problems.push_back(code < 0 ? "the " + which + " did not exit within 60 s of SIGTERM"
+                                  : "the " + which + " exited with " + std::to_string(code) +
+                                        " after SIGTERM");
+      std::printf("\n%s log (%s kept):\n%s\n", which.c_str(), server.dir().c_str(),
+                  server.log_tail().c_str());
+      server.keep_dir();
     } else {
-      std::printf("server stopped cleanly (SIGTERM, exit 0)\n");
+      std::printf("%s stopped cleanly (SIGTERM, exit 0)\n", which.c_str());
     }
   }
   for (const std::string& p : problems)

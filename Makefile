@@ -16,7 +16,7 @@ TEST_DEB_PACKAGES := chromium postgresql curl jq
 # Only the deploy/ checks need these (tests/deploy.cmake): systemd-analyze, strace, shellcheck.
 DEPLOY_TEST_DEB_PACKAGES := systemd strace shellcheck
 
-.PHONY: all deps node gltf-validator web web-test-deps deploy-test-deps build run test sanitize bench load-bench load-bench-postgres multi-node-soak accuracy-study format clean
+.PHONY: all deps node gltf-validator web web-test-deps deploy-test-deps build run test sanitize bench load-bench load-bench-postgres accuracy-study format clean
 
 all: build
 
@@ -119,15 +119,6 @@ load-bench: build
 # bench/results/load_postgres.txt holds a run.
 load-bench-postgres: build
 	bench/load/postgres_bench.sh $(BUILD_DIR)/release
-
-# Issue 14's multi-node run at full size: 1 000 jobs over three nodes sharing PostgreSQL and a
-# blob folder, one node killed with kill -9 mid-run (make test runs it with 300), in the
-# sanitizer build.
-multi-node-soak: deps
-	cmake -S . -B $(BUILD_DIR)/sanitize $(GENERATOR) -DCMAKE_BUILD_TYPE=Sanitize -DBRISANCE_WERROR=ON
-	cmake --build $(BUILD_DIR)/sanitize -j $(JOBS) --target brisance multi_node_tests
-	cd $(BUILD_DIR)/sanitize && BRISANCE_MULTI_NODE_JOBS=1000 ctest --output-on-failure -V \
-	  -R 'postgres.server|MultiNode.EveryJobRunsOnce'
 
 # Run time versus error of integrators, steps and panel sizes on the example scenes; writes
 # bench/results/accuracy_study.{csv,svg,txt} (docs/simulator.md reads the defaults off it).

@@ -97,7 +97,7 @@ class Writer {
   template <typename T>
   void array(const std::vector<T>& v) {
     value(static_cast<std::uint64_t>(v.size()));
-    out_.append(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(T));
+    if (!v.empty()) out_.append(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(T));
   }
   void text(std::string_view s) {
     value(static_cast<std::uint64_t>(s.size()));

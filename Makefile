@@ -16,7 +16,7 @@ TEST_DEB_PACKAGES := chromium postgresql curl jq
 # Only the deploy/ checks need these (tests/deploy.cmake): systemd-analyze, strace, shellcheck.
 DEPLOY_TEST_DEB_PACKAGES := systemd strace shellcheck
 
-.PHONY: all deps node gltf-validator web web-test-deps deploy-test-deps build run test sanitize bench load-bench accuracy-study format clean
+.PHONY: all deps node gltf-validator web web-test-deps deploy-test-deps build run test sanitize bench load-bench load-bench-postgres accuracy-study format clean
 
 all: build
 
@@ -114,6 +114,11 @@ bench: build
 # The job service under load: POST, GET, fixed-rate and drain phases against a spawned server.
 load-bench: build
 	$(BUILD_DIR)/release/bench/load_bench --server $(BUILD_DIR)/release/cli/brisance
+
+# The same bench on PostgreSQL (a durable server of its own) with 1 and 3 nodes;
+# bench/results/load_postgres.txt holds a run.
+load-bench-postgres: build
+	bench/load/postgres_bench.sh $(BUILD_DIR)/release
 
 # Run time versus error of integrators, steps and panel sizes on the example scenes; writes
 # bench/results/accuracy_study.{csv,svg,txt} (docs/simulator.md reads the defaults off it).

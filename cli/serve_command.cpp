@@ -16,6 +16,7 @@
 #include "cli/text.hpp"
 #include "server/api.hpp"
 #include "server/api_keys.hpp"
+#include "server/blob_store.hpp"
 #include "server/callbacks.hpp"
 #include "server/http_server.hpp"
 #include "server/job_service.hpp"
@@ -42,6 +43,10 @@ constexpr std::string_view kHelp =
     "  --data DIR           where the SQLite database lives (default ./data) [BRISANCE_DATA]\n"
     "  --store URL          postgres://user:pass@host:port/db: the PostgreSQL [BRISANCE_STORE]\n"
     "                       store instead of SQLite (default: sqlite, in DIR)\n"
+    "  --blobs DIR          results' meshes and frames as content-addressed     [BRISANCE_BLOBS]\n"
+    "                       files in DIR (shared by every node) instead of in\n"
+    "                       the store's database (the default for both stores)\n"
+    "  --blob-grace-s S     an unnamed blob younger than S is kept (600) [BRISANCE_BLOB_GRACE_S]\n"
     "  --workers N          simulation threads (default: cores, at least 1)  [BRISANCE_WORKERS]\n"
     "  --max-queue N        queued jobs at which POST gets 429 (10000)        "
     "[BRISANCE_MAX_QUEUE]\n"
@@ -136,6 +141,8 @@ int run_serve(const Args& args, std::ostream& out) {
                            {"port"},
                            {"data"},
                            {"store"},
+                           {"blobs"},
+                           {"blob-grace-s"},
                            {"workers"},
                            {"max-queue"},
                            {"api-keys"},
@@ -250,9 +257,21 @@ int run_serve(const Args& args, std::ostream& out) {
   sigaddset(&stop_signals, SIGTERM);
   pthread_sigmask(SIG_BLOCK, &stop_signals, nullptr);
 
+  const std::optional<std::string> blobs_dir = setting(flags, "blobs", "BRISANCE_BLOBS");
+  BlobOptions blob_options;
+  blob_options.grace = std::chrono::seconds(
+      integer_setting(flags, "blob-grace-s", "BRISANCE_BLOB_GRACE_S", 600, 0, 100000000));
+
   std::unique_ptr<Storage> storage;
   try {
-    storage = postgres ? open_postgres_storage(pg_store) : open_sqlite_storage(store);
+    std::unique_ptr<BlobStore> blobs;
+    if (blobs_dir) {
+      blob_options.dir = *blobs_dir;
+      blobs = std::make_unique<BlobStore>(blob_options);
+    }
+    // Wrapped even without --blobs, so a row naming a blob is an error here, not an empty result.
+    storage = with_blob_store(
+        postgres ? open_postgres_storage(pg_store) : open_sqlite_storage(store), std::move(blobs));
   } catch (const StorageError& error) {
     std::cerr << "brisance serve: " << error.what() << "\n";
     return kExitInternal;
@@ -298,6 +317,7 @@ int run_serve(const Args& args, std::ostream& out) {
              {"workers", workers.workers},
              {"api_keys", keys.size()},
              {"store", postgres ? "postgres" : "sqlite"},
+             {"blobs", blobs_dir ? *blobs_dir : "in the database"},
              {"synchronous", sync},
              {"dashboard", web.available()}});
 

@@ -6,6 +6,7 @@
 
 #include <array>
 
+#include "server/blob_store.hpp"
 #include "server/routes/routes.hpp"
 
 namespace brisance::server {
@@ -104,6 +105,12 @@ HttpResponse Api::handle(const HttpRequest& request, const std::optional<LongPol
   } catch (const BadParameter& bad) {
     response = server::problem(400, "invalid-parameter", "Invalid query parameter", bad.message)
                    .error("parameter", bad.name, bad.message)
+                   .response();
+  } catch (const BlobError&) {
+    // Logged with the job by the blob store; retrying will not help, so not a 503.
+    response = server::problem(500, "result-unavailable", "Result unavailable",
+                               "the stored result of this job is missing or corrupt in the blob "
+                               "store; the server log names the blob")
                    .response();
   } catch (const StorageError&) {
     response = server::problem(503, "storage-unavailable", "Storage unavailable",

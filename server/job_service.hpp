@@ -191,6 +191,8 @@ class JobService {
                              std::int64_t lease_ms);
   // Deletes the jobs that finished longer than `retention` ago; how many.
   std::int64_t prune_finished(std::chrono::milliseconds retention);
+  // Removes the result blobs no job names any more (--blobs); how many.
+  std::int64_t collect_blobs() { return storage_.collect_blobs(now_ms()); }
 
   QueueCounts queue_counts() { return storage_.queue_counts(now_ms()); }
   bool database_ok() { return storage_.ping(); }

@@ -236,9 +236,14 @@ class PgStorage final : public Storage {
       c.exec(
           "UPDATE jobs SET status = 'succeeded', progress = 1, finished_ms = $2, "
           "updated_ms = $2, version = version + 1, lease_owner = NULL, lease_expires_ms = NULL, "
-          "stats = $3, result_summary = $4 WHERE seq = $1 "
+          "stats = $3, result_summary = $4, result_blob = NULLIF($5, '') WHERE seq = $1 "
           "RETURNING pg_notify('brisance_jobs', id)",
-          pg::Params().add(seq).add(now_ms).add(result.stats_json).add(result.summary_json));
+          pg::Params()
+              .add(seq)
+              .add(now_ms)
+              .add(result.stats_json)
+              .add(result.summary_json)
+              .add(result.blob_digest));
       tx.commit();
       return true;
     });
@@ -377,6 +382,22 @@ class PgStorage final : public Storage {
   std::optional<std::string> result_summary(std::string_view id) override {
     return text_column("SELECT result_summary FROM jobs WHERE id = $1 AND status = 'succeeded'",
                        id);
+  }
+
+  std::optional<std::string> result_blob(std::string_view id) override {
+    return text_column(
+        "SELECT coalesce(result_blob, '') FROM jobs WHERE id = $1 AND status = 'succeeded'", id);
+  }
+
+  std::vector<std::string> blob_references() override {
+    return pool_.with_connection([](pg::Connection& c) {
+      const pg::Result r =
+          c.exec("SELECT DISTINCT result_blob FROM jobs WHERE result_blob IS NOT NULL");
+      std::vector<std::string> digests;
+      for (int row = 0; row < r.rows(); ++row)
+        digests.emplace_back(r.text(row, 0));
+      return digests;
+    });
   }
 
   std::vector<StoredBody> result_bodies(std::string_view id) override {

@@ -242,9 +242,9 @@ class SqliteStorage final : public Storage {
       auto s = c->prepare(
           "UPDATE jobs SET status = 'succeeded', progress = 1, finished_ms = ?, updated_ms = ?, "
           "version = version + 1, lease_owner = NULL, lease_expires_ms = NULL, stats = ?, "
-          "result_summary = ? WHERE seq = ?");
+          "result_summary = ?, result_blob = NULLIF(?, '') WHERE seq = ?");
       s.bind(1, now_ms).bind(2, now_ms).bind(3, result.stats_json).bind(4, result.summary_json);
-      s.bind(5, seq);
+      s.bind(5, result.blob_digest).bind(6, seq);
       s.run();
     }
     tx.commit();
@@ -387,6 +387,24 @@ class SqliteStorage final : public Storage {
     s.bind(1, id);
     if (!s.step()) return std::nullopt;
     return s.text(0);
+  }
+
+  std::optional<std::string> result_blob(std::string_view id) override {
+    auto c = acquire();
+    auto s = c->prepare(
+        "SELECT coalesce(result_blob, '') FROM jobs WHERE id = ? AND status = 'succeeded'");
+    s.bind(1, id);
+    if (!s.step()) return std::nullopt;
+    return s.text(0);
+  }
+
+  std::vector<std::string> blob_references() override {
+    auto c = acquire();
+    auto s = c->prepare("SELECT DISTINCT result_blob FROM jobs WHERE result_blob IS NOT NULL");
+    std::vector<std::string> digests;
+    while (s.step())
+      digests.push_back(s.text(0));
+    return digests;
   }
 
   std::vector<StoredBody> result_bodies(std::string_view id) override {

@@ -146,6 +146,9 @@ struct StoredResult {
   std::string stats_json;
   std::vector<StoredBody> bodies;
   std::vector<StoredFrame> frames;
+  // Non-empty: the bodies and frames are in the blob store (server/blob_store) under this SHA-256
+  // (64 hex digits) and `bodies` and `frames` are empty; the job row keeps only the digest.
+  std::string blob_digest;
 };
 
 struct QueueCounts {
@@ -239,6 +242,17 @@ class Storage {
   // Deletes finished jobs (and their results) that finished before `before_ms`.
   virtual std::int64_t prune_finished(std::int64_t before_ms) = 0;
   virtual bool ping() = 0;
+
+  // Result blobs (server/blob_store). result_blob: a succeeded job's blob digest, "" when its
+  // result is in the database, nullopt when no succeeded job has that id. blob_references: every
+  // digest a job row names, on every node. collect_blobs: removes the blobs no job names
+  // (only the blob store does any work); returns how many.
+  virtual std::optional<std::string> result_blob(std::string_view id) = 0;
+  virtual std::vector<std::string> blob_references() = 0;
+  virtual std::int64_t collect_blobs(std::int64_t now_ms) {
+    (void)now_ms;
+    return 0;
+  }
 
   // Callbacks. claim_callback takes a finished job whose callback is pending and due (oldest due
   // first) and holds it until now + lease_ms (another sender skips it meanwhile);

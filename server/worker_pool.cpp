@@ -258,6 +258,7 @@ void WorkerPool::run_job(ClaimedJob claimed) {
 
 void WorkerPool::keep() {
   auto last_prune = Clock::time_point{};
+  auto last_collect = Clock::now();
   const auto tick = std::max(std::chrono::milliseconds(50), options_.lease / 5);
   while (true) {
     {
@@ -276,6 +277,13 @@ void WorkerPool::keep() {
         log_event(LogLevel::warn, "recovered jobs whose worker stopped renewing its lease",
                   {{"requeued", report.requeued}, {"failed", report.failed}});
         wake_all();
+      }
+      // Blobs no job names any more (deleted or pruned jobs) go, whatever the retention.
+      if (Clock::now() - last_collect > options_.blob_collect_interval) {
+        last_collect = Clock::now();
+        if (const std::int64_t removed = service_.collect_blobs(); removed > 0) {
+          log_event(LogLevel::info, "collected result blobs no job names", {{"blobs", removed}});
+        }
       }
       if (options_.retention.count() > 0 && Clock::now() - last_prune > std::chrono::minutes(1)) {
         last_prune = Clock::now();

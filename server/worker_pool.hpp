@@ -24,6 +24,8 @@ struct WorkerOptions {
   std::chrono::milliseconds progress_interval{250};
   double job_timeout_s = 600.0;          // 0: no limit
   std::chrono::hours retention{24 * 7};  // finished jobs kept this long; 0: forever
+  // How often the blob store (serve --blobs) is swept for blobs no job names.
+  std::chrono::milliseconds blob_collect_interval{std::chrono::minutes(5)};
   // After the store failed to take a job's result (a full disk), the job goes back to the queue
   // and the worker waits this long before claiming again.
   std::chrono::milliseconds store_failure_pause{5000};

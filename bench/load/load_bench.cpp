@@ -41,17 +41,14 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
-extern char** environ;
+#include "bench/load/http_connection.hpp"
+#include "bench/load/server_process.hpp"
 
 namespace {
 
-namespace asio = boost::asio;
-namespace beast = boost::beast;
-namespace http = beast::http;
-namespace fs = std::filesystem;
-using tcp = asio::ip::tcp;
-using Clock = std::chrono::steady_clock;
-using nlohmann::json;
+// The spawned servers and the client's connections: bench/load/server_process.hpp and
+// bench/load/http_connection.hpp (with the namespace aliases both use).
+using namespace brisance::load;
 
 // ---------------------------------------------------------------------------------------------
 // Flags
@@ -77,6 +74,9 @@ constexpr std::string_view kHelp =
     "  --workers W          simulation workers of the spawned server (default 1)\n"
     "  --store URL          the spawned server's --store (default: its SQLite store in the\n"
     "                       temp dir); a postgres:// URL benches the PostgreSQL store\n"
+    "  --nodes N            spawn N servers on the one --store (a postgres:// URL when N > 1),\n"
+    "                       each with W workers; connection i goes to node i mod N, the\n"
+    "                       queue is read on node 1, srv CPU sums the nodes (default 1)\n"
     "  --connections C      keep-alive connections (default 32)\n"
     "  --jobs N             jobs submitted in the POST phase (default 5000)\n"
     "  --get-seconds S      length of the GET phase (default 5; 0 skips it)\n"
@@ -95,6 +95,7 @@ struct Options {
   int workers = 1;
   bool workers_set = false;
   std::string store;  // the spawned server's --store; empty: SQLite
+  int nodes = 1;      // servers spawned on the one store
   int connections = 32;
   long long jobs = 5000;
   double get_seconds = 5;
@@ -166,6 +167,8 @@ Options parse_options(int argc, char** argv) {
       o.workers_set = true;
     } else if (name == "store") {
       o.store = value();
+    } else if (name == "nodes") {
+      o.nodes = static_cast<int>(parse_integer(name, value(), 1, 16));
     } else if (name == "connections") {
       o.connections = static_cast<int>(parse_integer(name, value(), 1, 10000));
     } else if (name == "jobs") {
@@ -194,8 +197,11 @@ Options parse_options(int argc, char** argv) {
     usage_error(
         "give exactly one of --server PATH (spawn a server) or --port P (use a running one)");
   }
-  if (o.port != 0 && (o.workers_set || !o.store.empty())) {
-    usage_error("--workers and --store apply only to a server spawned with --server");
+  if (o.port != 0 && (o.workers_set || !o.store.empty() || o.nodes > 1)) {
+    usage_error("--workers, --store and --nodes apply only to servers spawned with --server");
+  }
+  if (o.nodes > 1 && o.store.rfind("postgres", 0) != 0) {
+    usage_error("--nodes above 1 needs a shared --store postgres://… URL");
   }
   return o;
 }
@@ -209,273 +215,6 @@ fs::path resolve_scene(const std::string& name) {
             << BRISANCE_SOURCE_DIR << ")\n";
   std::exit(2);
 }
-
-std::string read_file(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
-
-// ---------------------------------------------------------------------------------------------
-// The server process (--server)
-
-class ServerProcess {
- public:
-  ServerProcess(const std::string& binary, int workers, const std::string& store) {
-    char pattern[] = "/tmp/brisance-load-XXXXXX";
-    if (!mkdtemp(pattern)) throw std::runtime_error("cannot make a temporary directory");
-    dir_ = pattern;
-    log_ = dir_ / "server.log";
-    std::vector<std::string> args = {binary,        "serve",
-                                     "--port",      "0",
-                                     "--data",      (dir_ / "data").string(),
-                                     "--workers",   std::to_string(workers),
-                                     "--max-queue", "1000000",
-                                     "--log-level", "warn"};
-    if (!store.empty()) args.insert(args.end(), {"--store", store});
-    command_ = args[0];
-    for (std::size_t i = 1; i < args.size(); ++i)
-      command_ += " " + args[i];
-    std::vector<char*> argv;
-    for (auto& a : args)
-      argv.push_back(a.data());
-    argv.push_back(nullptr);
-    posix_spawn_file_actions_t actions;
-    posix_spawn_file_actions_init(&actions);
-    posix_spawn_file_actions_addopen(&actions, 2, log_.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    posix_spawn_file_actions_addopen(&actions, 1, "/dev/null", O_WRONLY, 0);
-    const int rc = posix_spawn(&pid_, argv[0], &actions, nullptr, argv.data(), environ);
-    posix_spawn_file_actions_destroy(&actions);
-    if (rc != 0) {
-      std::error_code ignored;
-      fs::remove_all(dir_, ignored);
-      throw std::runtime_error("cannot start " + binary + ": " + std::strerror(rc));
-    }
-  }
-  ~ServerProcess() {
-    if (pid_ > 0) {
-      kill(pid_, SIGKILL);
-      waitpid(pid_, nullptr, 0);
-    }
-    if (remove_dir_) {
-      std::error_code ignored;
-      fs::remove_all(dir_, ignored);
-    }
-  }
-  ServerProcess(const ServerProcess&) = delete;
-  ServerProcess& operator=(const ServerProcess&) = delete;
-
-  const std::string& command() const { return command_; }
-  const fs::path& dir() const { return dir_; }
-  pid_t pid() const { return pid_; }
-  void keep_dir() { remove_dir_ = false; }
-
-  std::string log() const { return read_file(log_); }
-  std::string log_tail(std::size_t bytes = 2000) const {
-    const std::string text = log();
-    return text.size() > bytes ? "..." + text.substr(text.size() - bytes) : text;
-  }
-
-  // The port: from the "listening" log line if the log level shows it, else the process's
-  // listening socket in /proc (at --log-level warn the line is not written). 0 if it exited.
-  int wait_port(std::chrono::seconds limit) {
-    const auto deadline = Clock::now() + limit;
-    while (Clock::now() < deadline) {
-      std::istringstream lines(log());
-      std::string line;
-      while (std::getline(lines, line)) {
-        if (line.find("\"msg\":\"listening\"") == std::string::npos) continue;
-        return json::parse(line).at("port").get<int>();
-      }
-      if (const int port = listening_port_from_proc(); port > 0) return port;
-      if (exited()) return 0;
-      std::this_thread::sleep_for(std::chrono::milliseconds(20));
-    }
-    return 0;
-  }
-
-  bool exited() {
-    if (pid_ <= 0) return true;
-    int status = 0;
-    if (waitpid(pid_, &status, WNOHANG) == pid_) {
-      exit_code_ = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-      pid_ = -1;
-      return true;
-    }
-    return false;
-  }
-  int exit_code() const { return exit_code_; }
-
-  // SIGTERM, then the exit code; -1 if it had not exited within the limit (it is then killed).
-  int terminate(std::chrono::seconds limit) {
-    if (pid_ > 0) kill(pid_, SIGTERM);
-    const auto deadline = Clock::now() + limit;
-    while (!exited()) {
-      if (Clock::now() > deadline) return -1;
-      std::this_thread::sleep_for(std::chrono::milliseconds(20));
-    }
-    return exit_code_;
-  }
-
- private:
-  int listening_port_from_proc() const {
-    std::set<std::string> inodes;
-    std::error_code ec;
-    for (const auto& entry : fs::directory_iterator("/proc/" + std::to_string(pid_) + "/fd", ec)) {
-      std::error_code link_ec;
-      const std::string target = fs::read_symlink(entry.path(), link_ec).string();
-      if (!link_ec && target.rfind("socket:[", 0) == 0) {
-        inodes.insert(target.substr(8, target.size() - 9));
-      }
-    }
-    if (inodes.empty()) return 0;
-    for (const char* table : {"/proc/net/tcp", "/proc/net/tcp6"}) {
-      std::ifstream in(table);
-      std::string line;
-      std::getline(in, line);  // header
-      while (std::getline(in, line)) {
-        // sl local_address rem_address st tx:rx tr:when retrnsmt uid timeout inode
-        std::istringstream fields(line);
-        std::string sl, local, remote, state, queues, timer, retransmits, uid, timeout, inode;
-        fields >> sl >> local >> remote >> state >> queues >> timer >> retransmits >> uid >>
-            timeout >> inode;
-        if (state != "0A" || !inodes.contains(inode)) continue;  // 0A: LISTEN
-        const auto colon = local.rfind(':');
-        if (colon == std::string::npos) continue;
-        return static_cast<int>(std::strtol(local.c_str() + colon + 1, nullptr, 16));
-      }
-    }
-    return 0;
-  }
-
-  fs::path dir_;
-  fs::path log_;
-  std::string command_;
-  pid_t pid_ = -1;
-  int exit_code_ = -1;
-  bool remove_dir_ = true;
-};
-
-// ---------------------------------------------------------------------------------------------
-// The client: keep-alive connections on one io_context, one request at a time each.
-
-struct Request {
-  http::verb verb = http::verb::get;
-  std::string target;
-  const std::string* body = nullptr;  // JSON, or none
-};
-
-struct Response {
-  int status = 0;     // 0: transport error (see `error`)
-  std::string error;  // transport error
-  std::string body;
-  std::string location;
-  double latency_ms = 0;
-};
-
-using Done = std::function<void(Response&&)>;
-
-constexpr auto kRequestTimeout = std::chrono::seconds(30);
-// The server closes keep-alive connections idle for 60 s; reconnect well before that rather than
-// race its close.
-constexpr auto kMaxIdle = std::chrono::seconds(20);
-
-class Connection {
- public:
-  Connection(asio::io_context& ioc, tcp::endpoint endpoint) : stream_(ioc), endpoint_(endpoint) {}
-
-  // Sends the request; `done` gets the response with its latency measured from `start`.
-  void send(const Request& request, Clock::time_point start, Done done) {
-    start_ = start;
-    done_ = std::move(done);
-    request_ = {};
-    request_.method(request.verb);
-    request_.target(request.target);
-    request_.version(11);
-    request_.set(http::field::host, "127.0.0.1");
-    request_.keep_alive(true);
-    if (request.body) {
-      request_.set(http::field::content_type, "application/json");
-      request_.body() = *request.body;
-    }
-    request_.prepare_payload();
-    if (open_ && Clock::now() - last_used_ > kMaxIdle) close();
-    if (open_) return write();
-    stream_.expires_after(std::chrono::seconds(10));
-    stream_.async_connect(endpoint_, [this](beast::error_code ec) {
-      if (ec) return fail(ec, "connect");
-      beast::error_code ignored;
-      stream_.socket().set_option(tcp::no_delay(true), ignored);
-      open_ = true;
-      ++connects_;
-      write();
-    });
-  }
-
-  std::size_t connects() const { return connects_; }
-
- private:
-  void write() {
-    stream_.expires_after(kRequestTimeout);
-    http::async_write(stream_, request_, [this](beast::error_code ec, std::size_t) {
-      if (ec) return fail(ec, "write");
-      read();
-    });
-  }
-
-  void read() {
-    parser_.emplace();
-    parser_->body_limit(std::uint64_t{1} << 30);
-    http::async_read(stream_, buffer_, *parser_, [this](beast::error_code ec, std::size_t) {
-      if (ec) return fail(ec, "read");
-      stream_.expires_never();
-      auto& message = parser_->get();
-      Response r;
-      r.status = static_cast<int>(message.result_int());
-      r.body = std::move(message.body());
-      if (const auto it = message.find(http::field::location); it != message.end()) {
-        r.location = std::string(it->value());
-      }
-      if (!message.keep_alive()) close();
-      last_used_ = Clock::now();
-      finish(std::move(r));
-    });
-  }
-
-  void fail(beast::error_code ec, const char* what) {
-    close();
-    Response r;
-    r.error = std::string(what) + ": " + ec.message();
-    finish(std::move(r));
-  }
-
-  void finish(Response&& r) {
-    r.latency_ms = std::chrono::duration<double, std::milli>(Clock::now() - start_).count();
-    Done done = std::move(done_);  // `done` may send the next request on this connection
-    done_ = nullptr;
-    done(std::move(r));
-  }
-
-  void close() {
-    beast::error_code ignored;
-    stream_.socket().shutdown(tcp::socket::shutdown_both, ignored);
-    stream_.socket().close(ignored);
-    buffer_.clear();
-    open_ = false;
-  }
-
-  beast::tcp_stream stream_;
-  tcp::endpoint endpoint_;
-  beast::flat_buffer buffer_;
-  http::request<http::string_body> request_;
-  std::optional<http::response_parser<http::string_body>> parser_;
-  Clock::time_point start_;
-  Clock::time_point last_used_;
-  Done done_;
-  bool open_ = false;
-  std::size_t connects_ = 0;
-};
 
 // ---------------------------------------------------------------------------------------------
 // Measurement
@@ -586,65 +325,33 @@ void print_table(std::vector<Phase>& phases, const std::string& csv) {
   if (!out) std::fprintf(stderr, "load_bench: cannot write %s\n", csv.c_str());
 }
 
-// CPU seconds (user + system) used by this process so far.
-double own_cpu_seconds() {
-  rusage usage{};
-  getrusage(RUSAGE_SELF, &usage);
-  auto seconds = [](const timeval& t) {
-    return static_cast<double>(t.tv_sec) + static_cast<double>(t.tv_usec) * 1e-6;
-  };
-  return seconds(usage.ru_utime) + seconds(usage.ru_stime);
-}
-
-// CPU seconds used by process `pid` so far (fields 14 and 15 of /proc/PID/stat); NaN if unknown.
-double process_cpu_seconds(pid_t pid) {
-  if (pid <= 0) return std::nan("");
-  const std::string stat = read_file("/proc/" + std::to_string(pid) + "/stat");
-  const auto paren = stat.rfind(')');  // the command name may hold spaces
-  if (paren == std::string::npos) return std::nan("");
-  std::istringstream fields(stat.substr(paren + 2));
-  std::string field;
-  double ticks = 0;
-  for (int i = 3; i <= 15 && fields >> field; ++i) {
-    if (i >= 14) ticks += std::strtod(field.c_str(), nullptr);
-  }
-  return ticks / static_cast<double>(sysconf(_SC_CLK_TCK));
-}
-
-// CPU seconds all processes of the machine have used so far (the busy time in /proc/stat).
-double machine_cpu_seconds() {
-  std::ifstream in("/proc/stat");
-  std::string cpu;
-  in >> cpu;
-  if (cpu != "cpu") return std::nan("");
-  // user nice system idle iowait irq softirq steal
-  double busy = 0;
-  for (int i = 0; i < 8; ++i) {
-    double ticks = 0;
-    if (!(in >> ticks)) return std::nan("");
-    if (i != 3 && i != 4 && i != 7) busy += ticks;
-  }
-  return busy / static_cast<double>(sysconf(_SC_CLK_TCK));
-}
-
 // CPU use of the client, the server and everything else over a phase.
 class CpuMeter {
  public:
-  explicit CpuMeter(pid_t server) : server_(server) {
+  // `servers`: the spawned nodes, whose CPU is summed (none with --port: unknown).
+  explicit CpuMeter(std::vector<pid_t> servers) : servers_(std::move(servers)) {
     client_ = own_cpu_seconds();
-    server_start_ = process_cpu_seconds(server_);
+    server_start_ = servers_cpu_seconds();
     machine_ = machine_cpu_seconds();
   }
   void stop(Phase& phase) const {
     phase.client_cpu_s = own_cpu_seconds() - client_;
-    phase.server_cpu_s = process_cpu_seconds(server_) - server_start_;
+    phase.server_cpu_s = servers_cpu_seconds() - server_start_;
     const double others =
         machine_cpu_seconds() - machine_ - phase.client_cpu_s - phase.server_cpu_s;
     phase.other_cpu_s = std::isnan(others) ? others : std::max(0.0, others);
   }
 
  private:
-  pid_t server_;
+  double servers_cpu_seconds() const {
+    if (servers_.empty()) return std::nan("");
+    double sum = 0;
+    for (const pid_t pid : servers_)
+      sum += process_cpu_seconds(pid);
+    return sum;
+  }
+
+  std::vector<pid_t> servers_;
   double client_ = 0;
   double server_start_ = 0;
   double machine_ = 0;
@@ -659,16 +366,18 @@ struct QueueCounts {
 
 class Bench {
  public:
-  Bench(const Options& options, int port, std::string job_body)
+  // Connection i goes to ports[i mod ports.size()].
+  Bench(const Options& options, const std::vector<int>& ports, std::string job_body)
       : options_(options), job_body_(std::move(job_body)) {
-    const tcp::endpoint endpoint(asio::ip::make_address("127.0.0.1"),
-                                 static_cast<std::uint16_t>(port));
     for (int i = 0; i < options.connections; ++i) {
+      const tcp::endpoint endpoint(
+          asio::ip::make_address("127.0.0.1"),
+          static_cast<std::uint16_t>(ports[static_cast<std::size_t>(i) % ports.size()]));
       connections_.push_back(std::make_unique<Connection>(ioc_, endpoint));
     }
   }
 
-  // One request on the first connection, waited for.
+  // One request on the first connection (node 1), waited for.
   Response fetch(const Request& request) {
     Response out;
     connections_.front()->send(request, Clock::now(), [&out](Response&& r) { out = std::move(r); });
@@ -885,27 +594,36 @@ int run(const Options& options) {
   }
   const std::string body = json{{"scene", scene}, {"priority", 0}}.dump();
 
-  std::unique_ptr<ServerProcess> server;
-  int port = options.port;
+  // The spawned nodes (none with --port), all on options.store.
+  std::vector<std::unique_ptr<ServerProcess>> servers;
+  std::vector<int> ports;
   if (!options.server.empty()) {
-    try {
-      server = std::make_unique<ServerProcess>(options.server, options.workers, options.store);
-    } catch (const std::exception& e) {
-      std::cerr << "load_bench: " << e.what() << "\n";
-      return 1;
+    for (int n = 0; n < options.nodes; ++n) {
+      try {
+        servers.push_back(
+            std::make_unique<ServerProcess>(options.server, options.workers, options.store));
+      } catch (const std::exception& e) {
+        std::cerr << "load_bench: " << e.what() << "\n";
+        return 1;
+      }
+      ServerProcess& server = *servers.back();
+      const int port = server.wait_port(std::chrono::seconds(60));
+      if (port == 0) {
+        std::cerr << "load_bench: the server did not start listening (exit code "
+                  << server.exit_code() << "); its log:\n"
+                  << server.log_tail() << "\n";
+        return 1;
+      }
+      ports.push_back(port);
+      std::printf("server%s: %s (pid %d, port %d)\n",
+                  options.nodes > 1 ? (" " + std::to_string(n + 1)).c_str() : "",
+                  server.command().c_str(), static_cast<int>(server.pid()), port);
     }
-    port = server->wait_port(std::chrono::seconds(60));
-    if (port == 0) {
-      std::cerr << "load_bench: the server did not start listening (exit code "
-                << server->exit_code() << "); its log:\n"
-                << server->log_tail() << "\n";
-      return 1;
-    }
-    std::printf("server: %s (pid %d, port %d)\n", server->command().c_str(),
-                static_cast<int>(server->pid()), port);
   } else {
-    std::printf("server: 127.0.0.1:%d (already running)\n", port);
+    ports.push_back(options.port);
+    std::printf("server: 127.0.0.1:%d (already running)\n", options.port);
   }
+  const bool spawned = !servers.empty();
   std::printf(
       "load: %lld jobs of %s (%zu-byte body), %d connections, GET %.3g s, RATE %.6g req/s for "
       "%.3g s, drain %s\n",
@@ -913,7 +631,7 @@ int run(const Options& options) {
       options.get_seconds, options.rate, options.rate_seconds, options.drain ? "on" : "off");
   std::fflush(stdout);
 
-  Bench bench(options, port, body);
+  Bench bench(options, ports, body);
   bool failed = false;
   std::vector<std::string> problems;
 
@@ -927,11 +645,13 @@ int run(const Options& options) {
   }
   if (!baseline) {
     std::cerr << "load_bench: GET /v1/queue failed: " << error << "\n";
-    if (server) std::cerr << "server log:\n" << server->log_tail() << "\n";
+    if (spawned) std::cerr << "server log:\n" << servers.front()->log_tail() << "\n";
     return 1;
   }
 
-  const pid_t server_pid = server ? server->pid() : -1;
+  std::vector<pid_t> server_pid;
+  for (const auto& server : servers)
+    server_pid.push_back(server->pid());
   std::vector<Phase> phases;
   const auto post_start = Clock::now();
   {
@@ -1097,9 +817,10 @@ int run(const Options& options) {
     std::snprintf(text, sizeof text, "%.0f /s", post_rate);
     goals.push_back({">= 2000 durable POST /v1/jobs per s", text,
                      post_rate >= 2000 && post_errors == 0,
-                     post_errors > 0 ? "with errors"
-                     : server        ? "server at --sync normal (default)"
-                                     : ""});
+                     post_errors > 0         ? "with errors"
+                     : !spawned              ? ""
+                     : options.store.empty() ? "server at --sync normal (default)"
+                                             : "PostgreSQL: durable as its synchronous_commit"});
   }
   if (get_rate) {
     char text[64];
@@ -1138,17 +859,19 @@ int run(const Options& options) {
   }
   if (drain_jobs_per_s) std::printf("drain throughput: %.1f jobs/s\n", *drain_jobs_per_s);
 
-  if (server) {
-    const int code = server->terminate(std::chrono::seconds(60));
+  for (std::size_t n = 0; n < servers.size(); ++n) {
+    ServerProcess& server = *servers[n];
+    const std::string which = servers.size() > 1 ? "server " + std::to_string(n + 1) : "server";
+    const int code = server.terminate(std::chrono::seconds(60));
     if (code != 0) {
-      problems.push_back(code < 0
-                             ? "the server did not exit within 60 s of SIGTERM"
-                             : "the server exited with " + std::to_string(code) + " after SIGTERM");
-      std::printf("\nserver log (%s kept):\n%s\n", server->dir().c_str(),
-                  server->log_tail().c_str());
-      server->keep_dir();
+      problems.push_back(code < 0 ? "the " + which + " did not exit within 60 s of SIGTERM"
+                                  : "the " + which + " exited with " + std::to_string(code) +
+                                        " after SIGTERM");
+      std::printf("\n%s log (%s kept):\n%s\n", which.c_str(), server.dir().c_str(),
+                  server.log_tail().c_str());
+      server.keep_dir();
     } else {
-      std::printf("server stopped cleanly (SIGTERM, exit 0)\n");
+      std::printf("%s stopped cleanly (SIGTERM, exit 0)\n", which.c_str());
     }
   }
   for (const std::string& p : problems)

@@ -723,7 +723,8 @@ class RunForms(FormRunner):
         env = self.image_env()
         for name, value in settings.items():
             if name not in ("BRISANCE_STORE", "BRISANCE_BLOBS"):
-                env[name] = value
+                # Compose's ${NAME:-default}, with NAME unset: the default.
+                env[name] = re.sub(r"\$\{[A-Z_0-9]+:-([^}]*)\}", r"\1", value)
         grace = float(settings["BRISANCE_GRACE_S"])
         stop = re.search(r"stop_grace_period: (\d+)s", text)
         server = Server([str(DEPLOY / "container" / "entrypoint.sh"), "serve"], env, self.folder)

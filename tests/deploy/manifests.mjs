@@ -35,9 +35,9 @@ try {
   process.exit(2);
 }
 
-// Variables the deploy files set before the binary reads them: the PostgreSQL store and the blob
-// folder arrive with issue 14's postgres work. Once the sources read one, drop it from here.
-const PENDING_VARIABLES = new Set(["BRISANCE_STORE", "BRISANCE_BLOBS"]);
+// Variables the deploy files may set before the binary reads them (none now: the PostgreSQL store
+// and the blob folder of issue 14 are read). Once the sources read one, drop it from here.
+const PENDING_VARIABLES = new Set([]);
 // `brisance serve` finishes the requests in flight for up to this long before the grace period
 // of running jobs starts (cli/serve_command.cpp: server.stop(10 s)).
 const REQUEST_DRAIN_S = 10;

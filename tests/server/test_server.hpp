@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "server/api.hpp"
+#include "server/blob_store.hpp"
 #include "server/callbacks.hpp"
 #include "server/http_server.hpp"
 #include "server/job_service.hpp"
@@ -48,6 +49,9 @@ struct TestServerOptions {
   // A callback sender (server/callbacks) with these options, and the default URL; none unset.
   std::optional<server::CallbackOptions> callbacks;
   std::string default_callback_url;
+  // Results in a blob store (serve --blobs) in this folder; empty: in the database, unless
+  // BRISANCE_TEST_BLOBS=1 (CTest runs the API suite once so), which puts them in the test's own.
+  std::filesystem::path blobs_dir;
 };
 
 inline TestServerOptions with_workers(int workers) {
@@ -70,6 +74,16 @@ class TestServer {
       store.max_size_bytes = options.max_db_bytes;
       storage_ = server::open_sqlite_storage(store);
     }
+    std::unique_ptr<server::BlobStore> blobs;
+    if (options.blobs_dir.empty() && std::getenv("BRISANCE_TEST_BLOBS"))
+      options.blobs_dir = dir_.path() / "blobs";
+    if (!options.blobs_dir.empty()) {
+      server::BlobOptions blob_options;
+      blob_options.dir = options.blobs_dir;
+      blobs = std::make_unique<server::BlobStore>(blob_options);
+    }
+    blobs_dir_ = options.blobs_dir;
+    storage_ = server::with_blob_store(std::move(storage_), std::move(blobs));
     server::ServiceOptions service_options;
     service_options.max_queue = options.max_queue;
     service_options.default_callback_url = options.default_callback_url;
@@ -117,6 +131,7 @@ class TestServer {
   // the service).
   server::Storage& storage() { return *storage_; }
   server::WorkerPool& pool() { return *pool_; }
+  const std::filesystem::path& blobs_dir() const { return blobs_dir_; }
 
   ClientResponse request(const std::string& method, const std::string& target,
                          const std::string& body = {}, const Headers& headers = {}) {
@@ -128,6 +143,7 @@ class TestServer {
 
  private:
   TempDir dir_;
+  std::filesystem::path blobs_dir_;
   std::unique_ptr<server::Storage> storage_;
   std::unique_ptr<server::JobService> service_;
   std::unique_ptr<server::CallbackSender> callbacks_;

@@ -395,21 +395,21 @@ try {
     check(own.differing > 0.005, `the window in its materials covers only ${(own.differing * 100).toFixed(2)} %`);
   });
 
-  await test("blast calculator plots P_so, i_s and t_a on log-log axes", page, async () => {
+  await test("blast calculator plots P_so, i_s, t_a, P_r and i_r on log-log axes", page, async () => {
     await page.goto(`${open.url}/#/blast`);
     await page.fill("#charge", "100");
     await page.fill("#distance", "15");
     await page.click("#compute");
     await page.locator("#blast-values tr[data-field]").first().waitFor();
-    await page.waitForFunction(() => document.querySelectorAll("#blast-plots svg.plot").length === 3);
-    for (const id of ["plot-pso", "plot-is", "plot-ta"]) {
+    await page.waitForFunction(() => document.querySelectorAll("#blast-plots svg.plot").length === 5);
+    for (const id of ["plot-pso", "plot-is", "plot-ta", "plot-pr", "plot-ir"]) {
       const plot = page.locator(`#${id}`);
       const points = Number(await plot.getAttribute("data-points"));
       check(points >= 55, `${id}: ${points} points`);
       const d = (await plot.locator("path.curve").first().getAttribute("d")) ?? "";
       check((d.match(/L/g) ?? []).length >= 30, `${id}: the curve has ${(d.match(/L/g) ?? []).length} segments`);
       const heights = await plot.locator("circle.point").evaluateAll((cs) => cs.map((c) => Number(c.getAttribute("cy"))));
-      // SVG y grows downwards: P_so and i_s fall with distance (cy grows), t_a rises (cy falls).
+      // SVG y grows downwards: pressures and impulses fall with distance (cy grows), t_a rises.
       const falling = heights.at(-1) > heights[0];
       check(id === "plot-ta" ? !falling : falling, `${id} runs the wrong way`);
     }

@@ -1,5 +1,5 @@
 // #/blast: the blast calculator. For one charge, /v1/blast is asked at ~60 log-spaced distances
-// and P_so, i_s and t_a are drawn against distance on log-log axes; the table gives every field
+// and P_so, i_s, t_a, P_r and i_r are drawn against distance on log-log axes; the table gives every field
 // at one distance, with its incident and reflected pressure-time pulses. The response tab
 // (#/blast?tab=response) loads a structural element (an example or edited JSON) with that charge
 // at that distance: POST /v1/response draws its displacement history, POST /v1/pi its P-I curve
@@ -19,6 +19,8 @@ const CURVES: { key: keyof Blast; id: string; title: string; unit: string }[] = 
   { key: "incident_overpressure_kpa", id: "plot-pso", title: "Incident overpressure P_so", unit: "kPa" },
   { key: "incident_impulse_kpa_ms", id: "plot-is", title: "Incident impulse i_s", unit: "kPa·ms" },
   { key: "arrival_time_ms", id: "plot-ta", title: "Arrival time t_a", unit: "ms" },
+  { key: "reflected_overpressure_kpa", id: "plot-pr", title: "Reflected overpressure P_r (at the angle)", unit: "kPa" },
+  { key: "reflected_impulse_kpa_ms", id: "plot-ir", title: "Reflected impulse i_r (at the angle)", unit: "kPa·ms" },
 ];
 
 const TABLE: { key: keyof Blast; label: string; unit: string }[] = [

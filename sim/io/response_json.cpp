@@ -263,38 +263,6 @@ std::optional<double> pi_displacement_limit(const response::Element& element, co
   return response::displacement_for_ductility(system, mu);
 }
 
-nlohmann::ordered_json pi_json(const response::Element& element, double displacement_limit_m,
-                               std::size_t points) {
-  const response::SdofSystem system = response::equivalent_system(element);
-  response::PiOptions options;
-  options.points = points;
-  const response::PiCurve curve = response::pi_curve(system, displacement_limit_m, options);
-  nlohmann::ordered_json out;
-  out["displacement_limit_m"] = displacement_limit_m;
-  const double elastic_limit = system.elastic_limit_m();
-  out["ductility"] = std::isfinite(elastic_limit)
-                         ? nlohmann::ordered_json(displacement_limit_m / elastic_limit)
-                         : nlohmann::ordered_json(nullptr);
-  out["rotation_deg"] =
-      element.span_m
-          ? nlohmann::ordered_json(std::atan(displacement_limit_m / (0.5 * *element.span_m)) *
-                                   180.0 / std::numbers::pi)
-          : nlohmann::ordered_json(nullptr);
-  out["natural_period_ms"] = system.natural_period_s() * 1e3;
-  out["impulsive_asymptote_kpa_ms"] = curve.impulsive_asymptote_pa_s;  // Pa*s == kPa*ms
-  out["quasi_static_asymptote_kpa"] = curve.quasi_static_asymptote_pa * 1e-3;
-  nlohmann::ordered_json list = nlohmann::ordered_json::array();
-  for (const response::PiPoint& p : curve.points) {
-    list.push_back({{"duration_ms", p.duration_s * 1e3},
-                    {"peak_pressure_kpa", p.peak_pressure_pa * 1e-3},
-                    {"impulse_kpa_ms", p.impulse_pa_s}});
-  }
-  out["points"] = list;
-  out["solves"] = curve.solves;
-  out["warnings"] = curve.warnings;
-  return out;
-}
-
 namespace {
 
 // Ductility and rotation of a displacement limit, as the P–I and W–R answers give them.
@@ -312,6 +280,32 @@ void limit_fields(const response::Element& element, const response::SdofSystem& 
           : nlohmann::ordered_json(nullptr);
   out["natural_period_ms"] = system.natural_period_s() * 1e3;
 }
+
+}  // namespace
+
+nlohmann::ordered_json pi_json(const response::Element& element, double displacement_limit_m,
+                               std::size_t points) {
+  const response::SdofSystem system = response::equivalent_system(element);
+  response::PiOptions options;
+  options.points = points;
+  const response::PiCurve curve = response::pi_curve(system, displacement_limit_m, options);
+  nlohmann::ordered_json out;
+  limit_fields(element, system, displacement_limit_m, out);
+  out["impulsive_asymptote_kpa_ms"] = curve.impulsive_asymptote_pa_s;  // Pa*s == kPa*ms
+  out["quasi_static_asymptote_kpa"] = curve.quasi_static_asymptote_pa * 1e-3;
+  nlohmann::ordered_json list = nlohmann::ordered_json::array();
+  for (const response::PiPoint& p : curve.points) {
+    list.push_back({{"duration_ms", p.duration_s * 1e3},
+                    {"peak_pressure_kpa", p.peak_pressure_pa * 1e-3},
+                    {"impulse_kpa_ms", p.impulse_pa_s}});
+  }
+  out["points"] = list;
+  out["solves"] = curve.solves;
+  out["warnings"] = curve.warnings;
+  return out;
+}
+
+namespace {
 
 blast::Charge wr_charge(const WrQuery& query, double mass_kg) {
   blast::Charge charge;

@@ -199,6 +199,19 @@ def _is_loopback(host: Optional[str]) -> bool:
         return False
 
 
+def _limit_body(element: Mapping[str, Any], ductility: Optional[float],
+                rotation_deg: Optional[float], points: Optional[int]) -> Dict[str, Any]:
+    """The body of ``POST /v1/pi``: the element, its damage limit and the number of points."""
+    body: Dict[str, Any] = {"element": element}
+    if ductility is not None:
+        body["ductility"] = float(ductility)
+    if rotation_deg is not None:
+        body["rotation_deg"] = float(rotation_deg)
+    if points is not None:
+        body["points"] = int(points)
+    return body
+
+
 class Client:
     """The Brisance HTTP API.
 
@@ -633,14 +646,7 @@ class Client:
            rotation_deg: Optional[float] = None, points: Optional[int] = None) -> Dict[str, Any]:
         """The pressure-impulse curve of ``element`` for a ductility ratio or a support rotation
         (``POST /v1/pi``), with its two asymptotes."""
-        body: Dict[str, Any] = {"element": element}
-        if ductility is not None:
-            body["ductility"] = float(ductility)
-        if rotation_deg is not None:
-            body["rotation_deg"] = float(rotation_deg)
-        if points is not None:
-            body["points"] = int(points)
-        return self._post_json("/v1/pi", body)
+        return self._post_json("/v1/pi", _limit_body(element, ductility, rotation_deg, points))
 
     def wr(self, element: Mapping[str, Any], *, ductility: Optional[float] = None,
            rotation_deg: Optional[float] = None, points: Optional[int] = None,
@@ -649,13 +655,8 @@ class Client:
         """The charge weight-stand-off (W-R) diagram of ``element`` for a ductility ratio or a
         support rotation (``POST /v1/pi`` with ``"diagram": "wr"``): for each stand-off in
         ``distances_m`` = [min, max] (log-spaced), the TNT charge that just reaches the limit."""
-        body: Dict[str, Any] = {"element": element, "diagram": "wr"}
-        if ductility is not None:
-            body["ductility"] = float(ductility)
-        if rotation_deg is not None:
-            body["rotation_deg"] = float(rotation_deg)
-        if points is not None:
-            body["points"] = int(points)
+        body = _limit_body(element, ductility, rotation_deg, points)
+        body["diagram"] = "wr"
         if distances_m is not None:
             body["distances_m"] = [float(d) for d in distances_m]
         if burst is not None:

@@ -50,16 +50,32 @@ std::string did_you_mean(std::string_view given, std::initializer_list<std::stri
 // ---------------------------------------------------------------------------------------------
 // The error list
 
+// Every problem is counted; the first kMaxListed are kept, and take() closes a longer list with
+// one more error (pointer "") saying how many were left out: a mesh of a million degenerate
+// triangles must not become a million-entry answer.
 class Errors {
  public:
+  static constexpr std::size_t kMaxListed = 100;
+
   void add(std::string pointer, std::string message) {
-    list_.push_back({std::move(pointer), std::move(message)});
+    ++count_;
+    if (list_.size() < kMaxListed) list_.push_back({std::move(pointer), std::move(message)});
   }
-  std::size_t count() const { return list_.size(); }
-  std::vector<ValidationError> take() { return std::move(list_); }
+  std::size_t count() const { return count_; }
+  std::vector<ValidationError> take() {
+    if (count_ > list_.size()) {
+      const std::size_t more = count_ - list_.size();
+      list_.push_back({"", "and " + std::to_string(more) +
+                               (more == 1 ? " more problem" : " more problems") +
+                               "; only the first " + std::to_string(kMaxListed) + " are listed"});
+    }
+    count_ = 0;
+    return std::move(list_);
+  }
 
  private:
   std::vector<ValidationError> list_;
+  std::size_t count_ = 0;
 };
 
 // Counts the errors added while it lives: ok() is true if there were none.

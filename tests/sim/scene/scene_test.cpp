@@ -202,6 +202,30 @@ TEST(SceneErrors, ScenewideChecksSeeChargesAndObjectsWithOtherErrors) {
   EXPECT_EQ(result.errors.size(), 7u) << dump_errors(result);
 }
 
+// 300 objects with a negative mass are 300 problems: the first 100 are listed, then one line
+// (pointer "") says how many more there were, so a huge bad scene is not a huge answer.
+TEST(SceneErrors, LongListsStopAtAHundredAndSayHowManyMore) {
+  json doc = minimal_scene();
+  doc["objects"] = json::array();
+  for (int i = 0; i < 300; ++i) {
+    doc["objects"].push_back({{"name", "o" + std::to_string(i)},
+                              {"shape", {{"type", "box"}, {"size", {0.5, 0.5, 0.5}}}},
+                              {"position", {0.0, 0.25, 0.0}},
+                              {"mass", -1.0}});
+  }
+  const ParseResult result = parse_scene_text(doc.dump());
+  ASSERT_EQ(result.errors.size(), 101u) << dump_errors(result);
+  EXPECT_EQ(result.errors[0].pointer, "/objects/0/mass");
+  EXPECT_EQ(result.errors[99].pointer, "/objects/99/mass");
+  EXPECT_EQ(result.errors[100].pointer, "");
+  EXPECT_TRUE(contains(result.errors[100].message, "and 200 more problems"))
+      << result.errors[100].message;
+
+  json& objects = doc["objects"];
+  objects.erase(objects.begin() + 100, objects.end());  // exactly 100: listed whole
+  EXPECT_EQ(parse_scene_text(doc.dump()).errors.size(), 100u);
+}
+
 TEST(SceneErrors, MalformedJsonIsOneErrorWithTheBytePosition) {
   const ParseResult result = parse_scene_text(R"({"charges": [}")");
   ASSERT_EQ(result.errors.size(), 1u) << dump_errors(result);

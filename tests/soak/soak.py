@@ -54,12 +54,12 @@ with open(os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "
 class Server:
     """One `brisance serve` process on the data folder; its log goes to a file of its own."""
 
-    def __init__(self, binary, data, sync, log_path):
+    def __init__(self, binary, data, sync, log_path, max_attempts):
         self.log_path = log_path
         self.log_file = open(log_path, "w")
         self.process = subprocess.Popen(
             [binary, "serve", "--data", data, "--port", "0", "--workers", "2", "--sync", sync,
-             "--grace-s", "2", "--max-attempts", "25", "--log-level", "info"],
+             "--grace-s", "2", "--max-attempts", str(max_attempts), "--log-level", "info"],
             stdout=subprocess.DEVNULL, stderr=self.log_file)
         self.port = 0
 
@@ -111,6 +111,8 @@ class Load:
         self.lock = threading.Lock()
         self.accepted = {}  # idempotency key -> job id
         self.conflicts = []  # (key, first id, later id): a retried key that named another job
+        self.retried = 0  # submissions sent again after a failed attempt
+        self.retried_existing = 0  # ... whose retry found the job the lost attempt had made
         self.stop_event = threading.Event()
         self.threads = []
 
@@ -138,9 +140,11 @@ class Load:
             body = json.dumps({"scene": scene}).encode()
             # Until an answer arrives: a crash between the commit and the answer is retried with
             # the same key and body, and must give the same job back.
+            tries = 0
             while not self.stop_event.is_set():
                 port = self.port
                 if port:
+                    tries += 1
                     try:
                         status, data, _ = request(port, "POST", "/v1/jobs", body,
                                                   {"Content-Type": "application/json",
@@ -148,6 +152,9 @@ class Load:
                         if status in (200, 202):
                             job = json.loads(data)["id"]
                             with self.lock:
+                                if tries > 1:
+                                    self.retried += 1
+                                    self.retried_existing += status == 200
                                 first = self.accepted.setdefault(key, job)
                                 if first != job:
                                     self.conflicts.append((key, first, job))
@@ -205,7 +212,7 @@ def run_mode(args, sync, rng, work):
     def start_server():
         log = os.path.join(work, "%s-%02d.log" % (sync, len(logs)))
         logs.append(log)
-        server = Server(args.brisance, data, sync, log)
+        server = Server(args.brisance, data, sync, log, args.max_attempts)
         recoveries.append(server.wait_ready())
         load.port = server.port
         return server
@@ -306,6 +313,8 @@ def run_mode(args, sync, rng, work):
         "duplicated": duplicated,
         "duplicated_detail": {"key_conflicts": load.conflicts[:5], "extra_jobs": extra_jobs[:5],
                               "finished_twice": finished_twice[:5]},
+        "retried": load.retried,
+        "retried_existing": load.retried_existing,
         "rerun_jobs": sum(1 for a in attempts if a > 1),
         "max_attempts": max(attempts, default=0),
         "validated_glb": validated,
@@ -350,6 +359,9 @@ def main():
     parser.add_argument("--validator", help="tests/gltf/validate.mjs (node), for a sample")
     parser.add_argument("--validate-sample", type=int, default=5)
     parser.add_argument("--seed", type=int, default=1)
+    parser.add_argument("--max-attempts", type=int, default=25,
+                        help="the server's --max-attempts (its default, 3, fails a job that "
+                             "dies with its process three times, by design)")
     parser.add_argument("--keep", action="store_true", help="keep the data folders and logs")
     args = parser.parse_args()
 
@@ -365,10 +377,11 @@ def main():
                 figures["integrity"] == "ok"
             failed |= not ok
             print("sync=%s cycles=%d (kill -9: %d, SIGTERM: %d) accepted=%d lost=%d "
-                  "duplicated=%d rerun=%d max_attempts=%d glb_validated=%d integrity=%s "
+                  "duplicated=%d retried_posts=%d (found the job: %d) rerun=%d max_attempts=%d glb_validated=%d integrity=%s "
                   "wall=%.0fs %s" %
                   (sync, figures["cycles"], figures["kills"], figures["terms"],
                    figures["accepted"], figures["lost"], figures["duplicated"],
+                   figures["retried"], figures["retried_existing"],
                    figures["rerun_jobs"], figures["max_attempts"], figures["validated_glb"],
                    figures["integrity"], time.monotonic() - started, "OK" if ok else "FAILED"))
             print("  recovery s per restart (spawn to /readyz 200): min %.3f median %.3f max %.3f"

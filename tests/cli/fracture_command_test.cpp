@@ -167,6 +167,10 @@ TEST(FractureCommand, BadInputIsOneClearMessage) {
                          "0.05", "-o", out})
                 .find("not both"),
             std::string::npos);
+  EXPECT_NE(usage_error({"--width", "1", "--height", "1", "--grid", "64", "--initial-crack",
+                         "1e296", "-o", out})
+                .find("initial crack length"),
+            std::string::npos);
   EXPECT_NE(usage_error({"--width", "1", "--height", "1", "--thickness", "0", "-o", out})
                 .find("--thickness"),
             std::string::npos);

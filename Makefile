@@ -20,7 +20,7 @@ DEPLOY_TEST_DEB_PACKAGES := systemd strace shellcheck
 FUZZ_DEB_PACKAGES := clang libclang-rt-14-dev
 # Seconds `make fuzz` runs each fuzz target.
 FUZZ_SECONDS ?= 60
-FUZZ_TARGETS := fuzz_scene fuzz_writers
+FUZZ_TARGETS := fuzz_scene fuzz_http fuzz_writers fuzz_fracture
 
 .PHONY: all deps node gltf-validator web web-test-deps deploy-test-deps fuzz-deps fuzz-build fuzz soak build run test sanitize bench load-bench accuracy-study format clean
 

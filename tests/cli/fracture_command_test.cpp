@@ -190,5 +190,16 @@ TEST(FractureCommand, BadInputIsOneClearMessage) {
   EXPECT_NE(help.str().find("--growth-length"), std::string::npos);
 }
 
+// Found by fuzz_fracture: the stress of so large a pane overflows, and the search for the
+// pressure that just breaks it never ended (this test hung).
+TEST(FractureCommand, AnAbsurdlyLargePaneStillFinishes) {
+  const std::string path = temp_path("huge.json");
+  std::ostringstream out;
+  EXPECT_EQ(
+      run_fracture({"--width", "1e200", "--height", "1e200", "--grid", "33", "-o", path}, out),
+      kExitOk);
+  EXPECT_NE(read(path).find("\"fragments\""), std::string::npos);
+}
+
 }  // namespace
 }  // namespace brisance::cli

@@ -5,6 +5,7 @@
 // is at most 128 cells, so a pattern has at most a few thousand fragments.
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <cstdlib>
 #include <fstream>
 #include <sstream>
@@ -81,6 +82,14 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   words.push_back(svg ? path_svg : path_json);
   if (!grid_given) return 0;  // the default grid of 2048 cells is too slow for fuzzing
 
+  // BRISANCE_FUZZ_PRINT=1: the command line of each input, to reproduce a finding with the CLI.
+  static const bool print = std::getenv("BRISANCE_FUZZ_PRINT") != nullptr;
+  if (print) {
+    std::string line = "brisance fracture";
+    for (const std::string& word : words)
+      line += " '" + word + "'";
+    std::fprintf(stderr, "%s\n", line.c_str());
+  }
   brisance::cli::Args args(words.begin(), words.end());
   std::ostringstream out;
   try {

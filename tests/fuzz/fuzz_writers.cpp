@@ -6,6 +6,7 @@
 // JSON chunk parses, and every buffer view and accessor lies inside the binary chunk.
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <string>
@@ -148,6 +149,9 @@ void check_glb(const std::vector<std::uint8_t>& glb) {
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   FuzzedDataProvider in(data, size);
   const json document = scene_from(in);
+  // BRISANCE_FUZZ_PRINT=1: each input's scene, to reproduce a finding with `brisance run`.
+  static const bool print = std::getenv("BRISANCE_FUZZ_PRINT") != nullptr;
+  if (print) std::fprintf(stderr, "%s\n", document.dump().c_str());
   const brisance::scene::ParseResult parsed = brisance::scene::parse_scene(document);
   if (!parsed.scene) return 0;  // overlapping boxes and the like: the validator's business
   const brisance::engine::RunOutcome run = brisance::engine::simulate(*parsed.scene);

@@ -10,6 +10,6 @@ mkdir -p "$scratch/corpus" "$scratch/crashes"
 dict="$(dirname "$0")/$(basename "$binary").dict"
 dict_flag=()
 [[ -f "$dict" ]] && dict_flag=(-dict="$dict")
-exec "$binary" -max_total_time="$seconds" -timeout=20 -rss_limit_mb=2560 -max_len=65536 \
+exec "$binary" -max_total_time="$seconds" -timeout=60 -rss_limit_mb=2560 -max_len=65536 \
   -print_final_stats=1 -artifact_prefix="$scratch/crashes/" "${dict_flag[@]}" \
   "$scratch/corpus" "$seeds"

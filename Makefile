@@ -15,8 +15,14 @@ DEB_PACKAGES := cmake g++ make ninja-build pkg-config \
 TEST_DEB_PACKAGES := chromium postgresql curl jq
 # Only the deploy/ checks need these (tests/deploy.cmake): systemd-analyze, strace, shellcheck.
 DEPLOY_TEST_DEB_PACKAGES := systemd strace shellcheck
+# Only the fuzz targets need these (tests/fuzz): Debian 12's clang 14 and its compiler-rt, which
+# has libFuzzer and the sanitizer runtimes.
+FUZZ_DEB_PACKAGES := clang libclang-rt-14-dev
+# Seconds `make fuzz` runs each fuzz target.
+FUZZ_SECONDS ?= 60
+FUZZ_TARGETS := fuzz_scene fuzz_http fuzz_writers fuzz_fracture
 
-.PHONY: all deps node gltf-validator web web-test-deps deploy-test-deps build run test sanitize bench load-bench load-bench-postgres accuracy-study format clean
+.PHONY: all deps node gltf-validator web web-test-deps deploy-test-deps fuzz-deps fuzz-build fuzz soak build run test sanitize bench load-bench load-bench-postgres accuracy-study format clean
 
 all: build
 
@@ -83,6 +89,34 @@ deploy-test-deps: node
 	$(call apt_install,$(DEPLOY_TEST_DEB_PACKAGES))
 	npm ci --prefix tests/deploy --no-audit --no-fund --loglevel=error
 
+# The libFuzzer targets (tests/fuzz): a build of their own with clang, -O1 with asserts on.
+fuzz-deps:
+	$(call apt_install,$(FUZZ_DEB_PACKAGES))
+
+fuzz-build: deps fuzz-deps
+	CC=clang CXX=clang++ cmake -S . -B $(BUILD_DIR)/fuzz $(GENERATOR) -DBRISANCE_FUZZ=ON \
+	  -DCMAKE_BUILD_TYPE=RelWithDebInfo "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -g"
+	cmake --build $(BUILD_DIR)/fuzz -j $(JOBS) --target fuzz_targets
+
+# Runs each fuzz target for FUZZ_SECONDS from its committed seeds (tests/fuzz/corpus/TARGET);
+# new inputs and crash reproducers go to $(BUILD_DIR)/fuzz/runs/TARGET.
+fuzz: fuzz-build
+	@for t in $(FUZZ_TARGETS); do \
+	  echo "== $$t for $(FUZZ_SECONDS) s"; \
+	  tests/fuzz/run_fuzz.sh $(BUILD_DIR)/fuzz/tests/fuzz/$$t $(BUILD_DIR)/fuzz/runs/$$t \
+	    tests/fuzz/corpus/$$t $(FUZZ_SECONDS) || exit 1; \
+	done
+
+# The crash soak: kill -9 20 times and SIGTERM 5 times under load, per SQLite sync mode, on the
+# release binary; the figures go to bench/results/soak.txt.
+soak: build gltf-validator
+	@{ echo "# make soak: python3 tests/soak/soak.py --brisance $(BUILD_DIR)/release/cli/brisance" \
+	    "--validator tests/gltf/validate.mjs"; \
+	  echo "# $$(date -u +%Y-%m-%d) on $$(nproc) cores, $$(git rev-parse --short HEAD)"; } \
+	  > bench/results/soak.txt
+	python3 tests/soak/soak.py --brisance $(BUILD_DIR)/release/cli/brisance \
+	  --validator tests/gltf/validate.mjs | tee -a bench/results/soak.txt
+
 $(BUILD_DIR)/release/CMakeCache.txt: | deps
 	cmake -S . -B $(BUILD_DIR)/release $(GENERATOR) -DCMAKE_BUILD_TYPE=Release
 
@@ -96,11 +130,12 @@ run: build web
 	$(BUILD_DIR)/release/cli/brisance serve
 
 # The whole test suite, built with AddressSanitizer + UndefinedBehaviorSanitizer and warnings as
-# errors, run through CTest.
-test: deps gltf-validator web web-test-deps deploy-test-deps
+# errors, run through CTest; then each fuzz target for a short bounded run (tests/fuzz).
+test: deps gltf-validator web web-test-deps deploy-test-deps fuzz-build
 	cmake -S . -B $(BUILD_DIR)/sanitize $(GENERATOR) -DCMAKE_BUILD_TYPE=Sanitize -DBRISANCE_WERROR=ON
 	cmake --build $(BUILD_DIR)/sanitize -j $(JOBS)
 	cd $(BUILD_DIR)/sanitize && ctest --output-on-failure -j $(JOBS)
+	cd $(BUILD_DIR)/fuzz && ctest --output-on-failure
 
 # Benchmarks need an optimised build.
 bench: build

@@ -577,8 +577,13 @@ std::optional<std::string> validate(const FractureParams& params) {
             << " m), got " << params.growth_length_m << " m; raise it or refine the grid";
     return message.str();
   }
-  if (!std::isfinite(params.initial.length_m) || params.initial.length_m < 0.0) {
-    message << "initial crack length must be >= 0 m, got " << params.initial.length_m;
+  // An arm of the initial crack stops at the border, so no arm needs to be longer than the
+  // diagonal; a longer one would only overflow the step budget (found by tests/fuzz).
+  const double diagonal_m = std::hypot(params.width_m, params.height_m);
+  if (!std::isfinite(params.initial.length_m) || params.initial.length_m < 0.0 ||
+      params.initial.length_m > 2.0 * diagonal_m) {
+    message << "initial crack length must be from 0 to twice the pane's diagonal ("
+            << 2.0 * diagonal_m << " m), got " << params.initial.length_m;
     return message.str();
   }
   if (!std::isfinite(params.initial.angle_deg)) return "initial crack angle must be finite";

@@ -88,6 +88,18 @@ std::vector<BlastQueryError> parse_blast_query(
     }
   }
   query.charge.tnt_equivalent_kg = query.charge_kg * query.tnt_factor;
+  // Beyond the fits' range (Z up to 40 m/kg^(1/3)) the result is flagged, not refused; but far
+  // beyond it their extrapolation underflows to an overpressure of 0 Pa, which the reflection
+  // cannot take (distance_m=5.8e89 tripped its assert; found by fuzz_http).
+  constexpr double kMaxScaledDistance = 1e6;  // m/kg^(1/3)
+  if (problems.empty()) {
+    const double scaled = query.distance_m / std::cbrt(query.charge.tnt_equivalent_kg);
+    if (!(scaled <= kMaxScaledDistance))
+      fail("distance_m", "gives a scaled distance of " + shown(scaled) +
+                             " m/kg^(1/3), beyond the 1e+06 this calculator extrapolates to "
+                             "(its fits hold up to 40); move the point closer or use a larger "
+                             "charge");
+  }
   return problems;
 }
 

@@ -51,6 +51,14 @@ class DepthScratch {
   std::vector<std::uint32_t> touched_;
 };
 
+// floor(x) as an int, clamped to [lo, hi] before the conversion: a clipped vertex on the face's
+// horizon (dot(p, n) = eps) projects some 1e10 pixels out, beyond int (found by tests/fuzz under
+// UBSan; x86 made it INT_MIN, which dropped the triangle from the face).
+int floor_to_int(double x, int lo, int hi) {
+  return static_cast<int>(
+      std::clamp(std::floor(x), static_cast<double>(lo), static_cast<double>(hi)));
+}
+
 // Rasterises one triangle (vertices relative to the charge) into every face it reaches: the
 // triangle is clipped to the face's half-space, projected centrally onto the face plane (great
 // circles become straight lines there), and each pixel whose centre lies inside gets the depth of
@@ -89,9 +97,8 @@ void rasterise_triangle(const SphereMap& map, const std::array<Vec3, 3>& tri,
       vmin = std::min(vmin, q.y());
       vmax = std::max(vmax, q.y());
     }
-    const int row_lo = std::max(0, static_cast<int>(std::floor(vmin / map.pixel_height() - 0.5)));
-    const int row_hi =
-        std::min(map.rows() - 1, static_cast<int>(std::floor(vmax / map.pixel_height() - 0.5)) + 1);
+    const int row_lo = floor_to_int(vmin / map.pixel_height() - 0.5, 0, map.rows());
+    const int row_hi = floor_to_int(vmax / map.pixel_height() - 0.5, -2, map.rows() - 2) + 1;
     if (row_lo > row_hi) continue;
     // The polygon's winding in the face plane depends on which side faces the charge.
     double area2 = 0.0;
@@ -103,10 +110,11 @@ void rasterise_triangle(const SphereMap& map, const std::array<Vec3, 3>& tri,
     if (area2 == 0.0) continue;
     const double sign = area2 > 0 ? 1.0 : -1.0;
     for (int j = row_lo; j <= row_hi; ++j) {
-      const int col_lo = std::max(map.first_column(j),
-                                  static_cast<int>(std::floor(umin / map.pixel_width() - 0.5)));
-      const int col_hi = std::min(map.last_column(j),
-                                  static_cast<int>(std::floor(umax / map.pixel_width() - 0.5)) + 1);
+      const int col_lo =
+          floor_to_int(umin / map.pixel_width() - 0.5, map.first_column(j), map.last_column(j) + 1);
+      const int col_hi = floor_to_int(umax / map.pixel_width() - 0.5, map.first_column(j) - 2,
+                                      map.last_column(j) - 1) +
+                         1;
       for (int i = col_lo; i <= col_hi; ++i) {
         const Vec2 c = map.cell_centre(i, j);
         bool inside = true;

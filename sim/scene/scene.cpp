@@ -143,6 +143,13 @@ ParseResult parse_scene_text(std::string_view text, const Limits& limits,
     result.errors.push_back({"", "malformed JSON at byte " + std::to_string(error.byte) + ": " +
                                      detail + "; fix the JSON syntax"});
     return result;
+  } catch (const json::out_of_range&) {
+    // A number beyond a double's range (1e400) is well-formed JSON that the parser cannot hold
+    // (found by tests/fuzz: it escaped as an exception, so `brisance validate` exited 1).
+    ParseResult result;
+    result.errors.push_back(
+        {"", "a number in the JSON is too large for a double (about 1.8e308 at most); fix it"});
+    return result;
   }
   return parse_scene(document, limits, meshes);
 }

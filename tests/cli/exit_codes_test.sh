@@ -41,11 +41,16 @@ expect 2 response --element /nonexistent.json --charge-kg 1 --distance-m 5
 expect 2 response --element "$elements/rc_wall.json" --pulse-peak-kpa 1 --pulse-duration-ms 1e9
 expect 2 pi --element "$elements/rc_wall.json" --ductility 0
 expect 2 frobnicate
+# A number beyond a double's range is invalid input, not an internal error (found by tests/fuzz).
+huge=$(mktemp --suffix=.json)
+printf '{"charges": [1e400]}' >"$huge"
+expect 2 validate "$huge"
+rm -f "$huge"
 "$bin" >/dev/null 2>&1; code=$?
 if [ "$code" -ne 2 ]; then echo "FAIL: no command exited $code, expected 2"; failures=$((failures + 1)); fi
 out=$("$bin" blast --charge-kg 100 --distance-m 15 --json)
 if ! printf '%s' "$out" | grep -q '"incident_overpressure_kpa"'; then
   echo "FAIL: --json output lacks incident_overpressure_kpa"; failures=$((failures + 1))
 fi
-echo "$((23 - failures)) passed, $failures failed"
+echo "$((24 - failures)) passed, $failures failed"
 [ "$failures" -eq 0 ]

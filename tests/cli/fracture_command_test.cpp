@@ -184,6 +184,10 @@ TEST(FractureCommand, BadInputIsOneClearMessage) {
                          "0.05", "-o", out})
                 .find("not both"),
             std::string::npos);
+  EXPECT_NE(usage_error({"--width", "1", "--height", "1", "--grid", "64", "--initial-crack",
+                         "1e296", "-o", out})
+                .find("initial crack length"),
+            std::string::npos);
   EXPECT_NE(usage_error({"--width", "1", "--height", "1", "--thickness", "0", "-o", out})
                 .find("--thickness"),
             std::string::npos);
@@ -215,6 +219,17 @@ TEST(FractureCommand, BadInputIsOneClearMessage) {
   std::ostringstream help;
   EXPECT_EQ(run_fracture({"--help"}, help), kExitOk);
   EXPECT_NE(help.str().find("--growth-length"), std::string::npos);
+}
+
+// Found by fuzz_fracture: the stress of so large a pane overflows, and the search for the
+// pressure that just breaks it never ended (this test hung).
+TEST(FractureCommand, AnAbsurdlyLargePaneStillFinishes) {
+  const std::string path = temp_path("huge.json");
+  std::ostringstream out;
+  EXPECT_EQ(
+      run_fracture({"--width", "1e200", "--height", "1e200", "--grid", "33", "-o", path}, out),
+      kExitOk);
+  EXPECT_NE(read(path).find("\"fragments\""), std::string::npos);
 }
 
 }  // namespace

@@ -90,6 +90,13 @@ TEST(Validate, AcceptsPresetsAndNamesTheBadField) {
             std::string::npos);
   EXPECT_NE(message([](FractureParams& p) { p.angle_variance_deg = -1.0; }).find("variance"),
             std::string::npos);
+  // Found by tests/fuzz/fuzz_fracture: a huge initial crack overflowed the step budget's
+  // conversion to an integer (undefined behaviour).
+  EXPECT_NE(message([](FractureParams& p) { p.initial.length_m = 1e296; }).find("diagonal"),
+            std::string::npos);
+  FractureParams longest;
+  longest.initial.length_m = 2.0 * std::hypot(longest.width_m, longest.height_m);
+  EXPECT_EQ(validate(longest), std::nullopt);
 }
 
 TEST(GrowCrackTree, IsBitIdenticalForTheSameSeed) {

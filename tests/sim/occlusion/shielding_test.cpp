@@ -100,6 +100,23 @@ TEST(Shielding, AWallShieldsTheBlockBehindItUnlessItDoesNotBlock) {
   }
 }
 
+// Found by tests/fuzz/fuzz_writers under UBSan: a triangle clipped at a face's horizon has a
+// vertex that projects some 1e10 pixels out; its conversion to int overflowed, and on x86 the
+// triangle was dropped from that face, leaving holes in the mask of anything large and near.
+TEST(Shielding, AWallFillingHalfTheSkyMasksHalfTheSphere) {
+  Boxes boxes;
+  const auto wall = boxes.add({0, 0, 3}, {400, 400, 0.3});
+  const auto block = boxes.add({0.5, 0.5, 6}, Vec3::Constant(0.5));
+  const Settings settings;
+  const Shielding s = shield(boxes, {}, settings);
+  // Half-angle atan(200 / 2.85) = 89.2 degrees: (1 - cos) / 2 = 49.3 % of the sphere.
+  const SphereMap map(settings.face_columns, settings.face_rows);
+  EXPECT_GT(s.objects[wall].mask_pixels, 0.47 * map.pixel_count());
+  EXPECT_LT(s.objects[wall].mask_pixels, 0.52 * map.pixel_count());
+  EXPECT_EQ(s.objects[block].occluders, std::vector<std::uint32_t>{wall});
+  EXPECT_LT(s.objects[block].attenuation, 0.05);
+}
+
 // Thesis fig. 4.6: blocks at about the same distance behind a large occluder; the one nearest to
 // being exposed is shielded least.
 TEST(Shielding, TheBlockNearestTheOccludersEdgeIsShieldedLeast) {

@@ -226,6 +226,19 @@ TEST(SceneErrors, LongListsStopAtAHundredAndSayHowManyMore) {
   EXPECT_EQ(parse_scene_text(doc.dump()).errors.size(), 100u);
 }
 
+// Found by tests/fuzz/fuzz_scene: a number out of a double's range escaped parse_scene_text as
+// an exception.
+TEST(SceneErrors, NumberTooLargeForADoubleIsOneErrorNotAnException) {
+  for (const char* text :
+       {R"({"charges": [1e400]})", R"({"simulation": {"duration": -1e99999}})"}) {
+    const ParseResult result = parse_scene_text(text);
+    ASSERT_EQ(result.errors.size(), 1u) << dump_errors(result);
+    EXPECT_FALSE(result.scene.has_value());
+    EXPECT_EQ(result.errors[0].pointer, "");
+    EXPECT_TRUE(contains(result.errors[0].message, "too large")) << result.errors[0].message;
+  }
+}
+
 TEST(SceneErrors, MalformedJsonIsOneErrorWithTheBytePosition) {
   const ParseResult result = parse_scene_text(R"({"charges": [}")");
   ASSERT_EQ(result.errors.size(), 1u) << dump_errors(result);

@@ -82,9 +82,12 @@ Plan parse(const ParsedFlags& flags) {
       flags.fail("--" + std::string(required) + " is required (see --help)");
   const double width = flag_number(flags, "width", 0.0);
   const double height = flag_number(flags, "height", 0.0);
-  if (!(width > 0.0) || !(height > 0.0))
+  if (!(width > 0.0) || !(height > 0.0) || width > scene::kMaxPaneSide_m ||
+      height > scene::kMaxPaneSide_m)
     flags.fail(
-        text::printf("--width and --height must be greater than 0 m, got %g x %g", width, height));
+        text::printf("--width and --height must be greater than 0 m and at most %g m (a "
+                     "pane), got %g x %g",
+                     scene::kMaxPaneSide_m, width, height));
   Plan plan;
   plan.thickness_m = flag_number(flags, "thickness", plan.thickness_m);
   if (!(plan.thickness_m > 0.0) || plan.thickness_m > std::min(width, height))

@@ -170,6 +170,13 @@ std::optional<WallOpening> read_opening(const json& value, const std::string& po
                      " m; make 'frame_width' smaller or the opening larger");
       return {};
     }
+    if (window_params.width_m > kMaxPaneSide_m || window_params.height_m > kMaxPaneSide_m) {
+      errors.add(child(pointer, "size"),
+                 "the window's pane (the opening less its frame) must be "
+                 "at most " +
+                     format_number(kMaxPaneSide_m) + " m wide and high; make the opening smaller");
+      return {};
+    }
     check_pane_thickness(window_fields, window_params);
     if (!scope.ok()) return {};
     opening.window = std::move(window_params);
@@ -303,8 +310,9 @@ std::vector<ObjectSpec> parse_window(const GeneratorContext& context) {
       errors.add(at, "'size' must be an array of 2 numbers [width, height], m, each > 0; got " +
                          describe(*size));
     } else {
-      const auto width = read_number((*size)[0], child(at, 0), "size[0]", positive("m"), errors);
-      const auto height = read_number((*size)[1], child(at, 1), "size[1]", positive("m"), errors);
+      const Bound pane_side{0.0, true, kMaxPaneSide_m, false, "m", ""};
+      const auto width = read_number((*size)[0], child(at, 0), "size[0]", pane_side, errors);
+      const auto height = read_number((*size)[1], child(at, 1), "size[1]", pane_side, errors);
       if (width) window_params.width_m = *width;
       if (height) window_params.height_m = *height;
     }

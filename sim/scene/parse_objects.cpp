@@ -443,6 +443,11 @@ std::optional<SceneObject> parse_object(const json& value, const std::string& po
         errors.add(fields.at("shape"),
                    "a breakable object (with 'fracture') must be a box pane {\"type\": \"box\", "
                    "\"size\": [width, height, thickness]}; use a box shape");
+      } else if (size.x() > kMaxPaneSide_m || size.y() > kMaxPaneSide_m) {
+        errors.add(child(fields.at("shape"), "size"),
+                   "a breakable pane's width and height must be at most " +
+                       format_number(kMaxPaneSide_m) + " m; got size [" + format_number(size.x()) +
+                       ", " + format_number(size.y()) + ", " + format_number(size.z()) + "]");
       } else if (size.z() > size.x() || size.z() > size.y()) {
         errors.add(child(child(fields.at("shape"), "size"), 2),
                    "a breakable pane's thickness is size[2] and must be its smallest edge; got "

@@ -58,6 +58,11 @@ enum class ShapeType { box, mesh };
 // A breakable pane (DESIGN.md decision 9, thesis ch. 5–6): a box whose thickness is its local z
 // (size[2], the smallest edge), front face +z. In engine::prepare the peak reflected pressure
 // on the pane gives its bending stress; above the strength the pane is cut into fragments.
+// The longest side a breakable pane may have, m: the plate model behind its breakage (a
+// lumped-mass plate of the pane's size) and its crack pattern are meant for glazing, and beyond
+// some 1e100 m its stiffness underflows to zero. Real panes stay below about 20 m.
+inline constexpr double kMaxPaneSide_m = 100.0;
+
 struct FractureSpec {
   enum class Trigger { automatic, always };
   enum class Clearing { fragment, pane };

@@ -387,6 +387,11 @@ TEST(SceneFracture, ErrorsPointAtTheFieldAndNameTheFix) {
          d["objects"][0]["shape"]["size"] = {0.006, 0.9, 1.2};
        },
        "smallest edge"},
+      {"/objects/0/shape/size",
+       [](json& d) {
+         d["objects"][0]["shape"]["size"] = {1e200, 0.9, 0.006};
+       },
+       "at most 100 m"},
       {"/objects/0/anchored", [](json& d) { d["objects"][0]["anchored"] = true; }, "framed"},
   };
   for (const auto& [pointer, edit, part] : cases) {
@@ -411,6 +416,12 @@ json window_scene() {
                         {"size", {1.2, 0.9}},
                         {"thickness", 0.006}}};
   return doc;
+}
+
+TEST(SceneWindow, APaneOverAHundredMetresIsAnError) {
+  json doc = window_scene();
+  doc["generators"][0]["size"] = {101, 0.9};
+  EXPECT_TRUE(contains(single_error(doc, "/generators/0/size/0"), "100"));
 }
 
 TEST(SceneWindow, GeneratesAPaneAndAnAnchoredFrame) {
@@ -455,7 +466,7 @@ TEST(SceneWindow, ErrorsPointAtTheFieldAndNameTheFix) {
        },
        "[width, height]"},
       {"/generators/0/size", [](json& d) { d["generators"][0].erase("size"); }, "is required"},
-      {"/generators/0/size/1", [](json& d) { d["generators"][0]["size"][1] = -1; }, "> 0"},
+      {"/generators/0/size/1", [](json& d) { d["generators"][0]["size"][1] = -1; }, "(0, 100]"},
       {"/generators/0/material", [](json& d) { d["generators"][0]["material"] = "brick"; },
        "breakable material"},
       {"/generators/0/thickness", [](json& d) { d["generators"][0]["thickness"] = 0; }, "(0, 0.1]"},

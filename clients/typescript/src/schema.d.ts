@@ -1258,11 +1258,19 @@ export interface components {
          *         "impulse_kpa_ms": 633.2,
          *         "decay": 1.83
          *       },
+         *       "negative_phase": {
+         *         "underpressure_kpa": 19.66,
+         *         "impulse_kpa_ms": 523.7,
+         *         "duration_ms": 47.36,
+         *         "chart_duration_ms": 51.06,
+         *         "in_validity_range": true
+         *       },
          *       "inputs": {
          *         "charge_kg": 100,
          *         "distance_m": 15,
          *         "explosive": "TNT",
          *         "tnt_factor": 1,
+         *         "impulse_tnt_factor": 1,
          *         "burst": "air",
          *         "surface_model": "hemispherical",
          *         "angle_deg": 0
@@ -1272,8 +1280,13 @@ export interface components {
         Blast: {
             /** @description Z = R / W^(1/3), m/kg^(1/3). */
             scaled_distance_m_kg13: number;
-            /** @description W, the charge mass times the explosive's TNT factor. */
+            /** @description W, the charge mass times the explosive's TNT factor (pressures and times). */
             tnt_equivalent_kg: number;
+            /**
+             * @description The W impulses are computed with: the charge mass times the explosive's impulse
+             *     factor (UFC 3-340-02 eq. 2-5), equal to tnt_equivalent_kg for most explosives.
+             */
+            impulse_tnt_equivalent_kg?: number;
             /** @description Side-on peak overpressure P_so. */
             incident_overpressure_kpa: number;
             /** @description Side-on positive impulse i_s. */
@@ -1293,6 +1306,24 @@ export interface components {
             in_validity_range: boolean;
             incident_pulse: components["schemas"]["BlastPulse"];
             reflected_pulse: components["schemas"]["BlastPulse"];
+            /**
+             * @description The incident suction after the positive phase (docs/blast-model.md): UFC 3-340-02's
+             *     negative-phase curves (as fitted by Rigby et al. 2014) for the peak underpressure and
+             *     impulse, with the cubic p(t) = -P (27/4)(t/T)(1 - t/T)^2 of NAVFAC DM-2.08 over
+             *     T = duration_ms = 16/9 impulse / underpressure. The reflected negative phase is not
+             *     modelled.
+             */
+            negative_phase: {
+                /** @description Peak suction below ambient (positive). */
+                underpressure_kpa: number;
+                /** @description Area of the suction (positive). */
+                impulse_kpa_ms: number;
+                /** @description Duration of the cubic, after the positive phase ends. */
+                duration_ms: number;
+                /** @description The charts' own duration curve, for comparison. */
+                chart_duration_ms: number;
+                in_validity_range: boolean;
+            };
             /** @description The query as the calculator understood it (canonical explosive name, defaults filled in). */
             inputs: {
                 charge_kg: number;
@@ -1300,6 +1331,7 @@ export interface components {
                 /** @description The canonical name, or `custom` for a `tnt_factor`. */
                 explosive: string;
                 tnt_factor: number;
+                impulse_tnt_factor: number;
                 /** @enum {string} */
                 burst: "air" | "surface";
                 /** @enum {string} */
@@ -1411,6 +1443,7 @@ export interface components {
                 distance_m: number;
                 explosive?: string;
                 tnt_factor?: number;
+                impulse_tnt_factor?: number;
                 /** @enum {string} */
                 burst?: "air" | "surface";
                 /** @enum {string} */
@@ -1553,8 +1586,13 @@ export interface components {
         };
         Explosive: {
             name: string;
-            /** @description kg of TNT per kg of this explosive. */
+            /** @description kg of TNT per kg of this explosive (pressures and times). */
             tnt_factor: number;
+            /**
+             * @description kg of TNT per kg for impulses: UFC 3-340-02 table 2-1's impulse column where it is
+             *     given (C-4, H-6, Tritonal), otherwise tnt_factor.
+             */
+            impulse_tnt_factor: number;
             /**
              * @description Equivalence by heat of detonation or by peak overpressure.
              * @enum {string}
@@ -1568,6 +1606,7 @@ export interface components {
          *         {
          *           "name": "TNT",
          *           "tnt_factor": 1,
+         *           "impulse_tnt_factor": 1,
          *           "basis": "energy",
          *           "source": "thesis table 2.1 (Smith & Hetherington 1994)"
          *         }
@@ -1708,11 +1747,14 @@ export interface components {
             /**
              * @description A known explosive's name (`GET /v1/explosives`; case, spaces, `-`, `_` and `/` are
              *     ignored, and aliases such as `C4`, `CompB`, `Amatol`, `Pentolite`, `Cyclonite`, `NG`
-             *     work), or `{"tnt_factor": F}` for a custom TNT equivalence. Default `TNT`.
+             *     work), or `{"tnt_factor": F}` for a custom TNT equivalence (with an optional
+             *     `impulse_tnt_factor` for impulses). Default `TNT`.
              */
             explosive?: string | {
                 /** @description kg of TNT per kg. */
                 tnt_factor: number;
+                /** @description kg of TNT per kg for impulses (UFC 3-340-02 eq. 2-5); default tnt_factor. */
+                impulse_tnt_factor?: number;
             };
             /**
              * @description Free-air spherical (`air`) or hemispherical surface (`surface`) burst.
@@ -3443,6 +3485,12 @@ export interface operations {
                  * @example 1.37
                  */
                 tnt_factor?: number;
+                /**
+                 * @description With `tnt_factor`: a separate TNT equivalence for impulses (UFC 3-340-02 eq. 2-5).
+                 *     Default `tnt_factor`. A named explosive brings its own (`GET /v1/explosives`).
+                 * @example 1.19
+                 */
+                impulse_tnt_factor?: number;
                 /** @description Free-air (`air`) or surface (`surface`) burst. */
                 burst?: "air" | "surface";
                 /**

@@ -3,6 +3,7 @@
 // `brisance api-key`: makes a key for --api-keys.
 #include <cmath>
 #include <cstdlib>
+#include <fstream>
 #include <iostream>
 #include <ostream>
 #include <string>
@@ -73,11 +74,14 @@ constexpr std::string_view kHelp =
     "                       (survives power loss), normal (default) survives\n"
     "                       any process crash\n"
     "  --grace-s S          on SIGTERM, time running jobs get to finish (10)  [BRISANCE_GRACE_S]\n"
-    "  --callback-url URL   http:// URL told when a job that names none ends  "
+    "  --callback-url URL   http(s):// URL told when a job that names none ends "
     "[BRISANCE_CALLBACK_URL]\n"
     "  --callback-secret S  HMAC-SHA256 key that signs callback deliveries "
     "[BRISANCE_CALLBACK_SECRET]\n"
     "                       (Brisance-Signature; docs/service.md \"Callbacks\")\n"
+    "  --callback-ca FILE   PEM CA certificates https receivers must chain to "
+    "[BRISANCE_CALLBACK_CA]\n"
+    "                       (default: the system's trusted CAs)\n"
     "  --log-level L        debug, info (default), warn or error             "
     "[BRISANCE_LOG_LEVEL]\n";
 
@@ -158,6 +162,7 @@ int run_serve(const Args& args, std::ostream& out) {
                            {"grace-s"},
                            {"callback-url"},
                            {"callback-secret"},
+                           {"callback-ca"},
                            {"log-level"},
                            {"web-dir"},
                            {"help", false, "h"}});
@@ -225,6 +230,10 @@ int run_serve(const Args& args, std::ostream& out) {
   CallbackOptions callback_options;
   callback_options.secret =
       setting(flags, "callback-secret", "BRISANCE_CALLBACK_SECRET").value_or("");
+  callback_options.ca_file = setting(flags, "callback-ca", "BRISANCE_CALLBACK_CA").value_or("");
+  if (!callback_options.ca_file.empty() && !std::ifstream(callback_options.ca_file))
+    flags.fail("--callback-ca (or BRISANCE_CALLBACK_CA): cannot read '" + callback_options.ca_file +
+               "'");
 
   const std::string level = setting(flags, "log-level", "BRISANCE_LOG_LEVEL").value_or("info");
   if (level == "debug") {

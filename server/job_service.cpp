@@ -66,11 +66,9 @@ std::size_t characters(std::string_view text) {
 std::optional<std::string> check_callback_url(std::string_view url) {
   if (url.size() > 2000) return "callback URLs have at most 2000 characters";
   const auto parsed = boost::urls::parse_absolute_uri(url);
-  if (!parsed) return "callback must be an absolute URL http://host[:port][/path]";
-  if (parsed->scheme() == "https")
-    return "https callbacks are not supported yet: give an http URL (a relay on the receiving "
-           "side can forward it over TLS); deliveries are signed either way";
-  if (parsed->scheme() != "http") return "callback URLs use http://";
+  if (!parsed) return "callback must be an absolute URL http[s]://host[:port][/path]";
+  if (parsed->scheme() != "http" && parsed->scheme() != "https")
+    return "callback URLs use http:// or https://";
   if (parsed->host().empty()) return "callback URL without a host";
   if (parsed->has_userinfo()) return "callback URLs take no user:password@; use the signature";
   if (parsed->has_port() && (parsed->port_number() == 0 || parsed->port().empty()))

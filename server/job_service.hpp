@@ -33,7 +33,7 @@ struct ServiceOptions {
   std::string default_callback_url;  // for jobs that name none ('' none); --callback-url
 };
 
-// A callback URL a job may name: http://host[:port][/path], at most 2000 characters. nullopt
+// A callback URL a job may name: http[s]://host[:port][/path], at most 2000 characters. nullopt
 // when valid, else why not.
 std::optional<std::string> check_callback_url(std::string_view url);
 

@@ -297,16 +297,17 @@ TEST(WindowScenes, ShelteredPaneFliesWithTheMomentumTheWaveGives) {
   const double speed = sheltered.fracture[0].launch_speed_m_s.mean;
   EXPECT_GT(speed, 0.6 * bound);
   EXPECT_LT(speed, 1.3 * bound);
-  // Held fragments keep the load they took before breaking free: nearly all leave the frame —
-  // above 90 % of the static model's 400-odd fragments; of the dynamic model's 43, ten times
-  // larger, 36 (84 %): the frame holds a larger share of the pane along each large edge piece.
+  // Held fragments keep the load they took before breaking free: most leave the frame — of the
+  // dynamic model's 43, 36 (84 %); of the static model's 579, 488 (84 %). (The static model's
+  // pattern had 400-odd fragments and over 90 % released while the crack tree lost tips to a
+  // wrong kill; the complete tree has more small pieces along the frame, which holds them.)
   EXPECT_GT(static_cast<double>(sheltered.fracture[0].released),
             0.8 * static_cast<double>(sheltered.fracture[0].fragment_count));
   scene::Scene by_static = s;
   by_static.objects[0].fracture->breakage = scene::FractureSpec::Breakage::static_plate;
   const Result static_sheltered = simulate(by_static).result;
   EXPECT_GT(static_cast<double>(static_sheltered.fracture[0].released),
-            0.9 * static_cast<double>(static_sheltered.fracture[0].fragment_count));
+            0.8 * static_cast<double>(static_sheltered.fracture[0].fragment_count));
   // In the open, the wave wraps around onto the pane's back and takes part of the push away.
   s.objects[0].sheltered = 0;
   const double open = simulate(s).result.fracture[0].launch_speed_m_s.mean;

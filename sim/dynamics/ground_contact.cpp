@@ -48,7 +48,6 @@ struct TouchingPoints {
 // Stage 1. Returns false if the body does not touch the ground.
 [[gnu::always_inline]] inline bool prepare_contacts(const BodyModel& model, BodyState& state,
                                                     const Ground& ground, ContactMemory* memory,
-                                                    double gravity_speed,
                                                     TouchingPoints& touching) {
   if (state.position.y() - model.bounding_radius_m > ground.height_m + kContactMargin_m)
     return false;
@@ -77,8 +76,7 @@ struct TouchingPoints {
     const std::size_t k = touching.count;
     touching.points[k] = i;
     touching.arms[k] = arm;
-    // The approach before this step's gravity (the impact).
-    touching.approach[k] = (state.velocity + touching.omega.cross(arm)).y() + gravity_speed;
+    touching.approach[k] = (state.velocity + touching.omega.cross(arm)).y();
     touching.bounces = touching.bounces || touching.approach[k] < -kBounceThreshold_m_s;
     ++touching.count;
   }
@@ -309,9 +307,9 @@ struct Velocities {
 }  // namespace
 
 bool resolve_ground_contact(const BodyModel& model, BodyState& state, const Ground& ground,
-                            ContactMemory* memory, double gravity_speed_m_s) {
+                            ContactMemory* memory) {
   TouchingPoints touching;
-  if (!prepare_contacts(model, state, ground, memory, gravity_speed_m_s, touching)) return false;
+  if (!prepare_contacts(model, state, ground, memory, touching)) return false;
   if (!touching.bounces && model.rotates && touching.count > 0 &&
       solve_sticking(model, state, ground, memory, touching))
     return true;

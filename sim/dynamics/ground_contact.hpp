@@ -30,12 +30,8 @@ struct ContactMemory {
 // bounce it first tries to bring every touching point to rest at once (the body stops, or turns
 // about its edge or corner), which holds if no impulse pulls or leaves its Coulomb disc; else
 // sequential impulses with accumulated clamping, warm-started from `memory` when given.
-// Returns true if the body touches the ground. `gravity_speed_m_s`: the downward speed the step's
-// gravity added (g dt); restitution acts on the approach before it, so that a body resting on
-// the ground, which gains g dt towards it every step, does not bounce however long the step
-// (with fixed 0.1 s steps g dt = 0.98 m/s, above the bounce threshold: resting blocks hopped
-// forever).
+// Returns true if the body touches the ground.
 bool resolve_ground_contact(const BodyModel& model, BodyState& state, const Ground& ground,
-                            ContactMemory* memory = nullptr, double gravity_speed_m_s = 0.0);
+                            ContactMemory* memory = nullptr);
 
 }  // namespace brisance::dynamics

@@ -160,7 +160,6 @@ void Run::release_held(double t0, double t1) {
 
 void Run::integrate_awake(double dt) {
   const bool may_sleep = model_.timing.sleep && model_.ground.has_value();
-  const double fall_speed = std::max(0.0, -model_.world.gravity_m_s2.y());  // per second, m/s
   double max_angular_squared = 0.0;
   std::uint64_t body_steps = 0;
   state_.min_contact_time_s = INFINITY;
@@ -187,15 +186,15 @@ void Run::integrate_awake(double dt) {
     if (substeps == 1) {
       omega = dynamics::integrate(body, state, loads, model_.world, dt);
       if (model_.ground && !ground_with_bodies)
-        touching = dynamics::resolve_ground_contact(body, state, *model_.ground,
-                                                    &state_.contacts[b], fall_speed * dt);
+        touching =
+            dynamics::resolve_ground_contact(body, state, *model_.ground, &state_.contacts[b]);
     } else {
       // The step's impulse acts in the first substep, as it acts at the start of a step.
       const double h = dt / static_cast<double>(substeps);
       for (int k = 0; k < substeps; ++k) {
         omega = dynamics::integrate(body, state, k == 0 ? loads : kNoLoads, model_.world, h);
-        touching = dynamics::resolve_ground_contact(body, state, *model_.ground,
-                                                    &state_.contacts[b], fall_speed * h);
+        touching =
+            dynamics::resolve_ground_contact(body, state, *model_.ground, &state_.contacts[b]);
       }
     }
     if (!finite(state)) {

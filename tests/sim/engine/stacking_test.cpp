@@ -178,9 +178,9 @@ TEST(Stability, LongFixedStepsAddNoEnergyAtContact) {
   // Issue 13: with fixed 0.1 s steps, blocks blown over landed and hopped for ever, their
   // kinetic plus potential energy rising after the blast instead of falling (measured on this
   // scene before the fix, contacts off: 627.6 J at 3 s, 630.9 J at 5 s, 631.6 J at 10 s). Each
-  // step added g dt (0.98 m/s) of approach that bounced, and a resting block sank g dt^2 (98 mm)
-  // into the ground every step; now restitution acts on the approach before the step's gravity
-  // and contact is resolved in substeps no longer than the adaptive step's longest.
+  // step added g dt (0.98 m/s) of approach, above the bounce threshold, and a resting block sank
+  // g dt^2 (98 mm) into the ground; now ground contact is resolved in substeps no longer than
+  // the adaptive step's longest.
   for (auto mode : {scene::CollisionMode::off, scene::CollisionMode::automatic}) {
     scene::Scene s;
     s.charges.push_back(tnt(200.0, Vector3d(0.0, 0.5, -8.0)));

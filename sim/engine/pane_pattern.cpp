@@ -68,8 +68,9 @@ PanePattern pane_pattern(const scene::FractureSpec& spec, const PaneSize& pane,
   input.strength_pa = spec.strength_pa;
   input.pressure_pa = load.peak_pressure_pa;
   input.pattern_scale = spec.pattern_scale;
-  input.min_growth_length_m = kMinCellsPerGrowth * finest_cell;
   input.max_growth_length_m = 0.5 * shorter;
+  // A sliver of a pane (half its shorter side below two finest cells) grows at its half width.
+  input.min_growth_length_m = std::min(kMinCellsPerGrowth * finest_cell, input.max_growth_length_m);
 
   PanePattern out;
   out.response =
@@ -82,7 +83,8 @@ PanePattern pane_pattern(const scene::FractureSpec& spec, const PaneSize& pane,
   double growth = out.response.growth_length_m;
   out.growth_length_clamped = out.response.clamped;
   if (spec.growth_length_m) {
-    growth = std::clamp(*spec.growth_length_m, finest_cell, input.max_growth_length_m);
+    growth = std::clamp(*spec.growth_length_m, std::min(finest_cell, input.max_growth_length_m),
+                        input.max_growth_length_m);
     out.growth_length_given = true;
     out.growth_length_clamped = growth != *spec.growth_length_m;
   } else if (!out.response.breaks) {

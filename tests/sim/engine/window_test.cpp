@@ -87,6 +87,21 @@ TEST(PaneCoupling, GrowthLengthFallsAsPressureRises) {
   EXPECT_FALSE(fracture::pane_fracture(input).breaks);
 }
 
+// A sliver of a pane: half its shorter side is below the finest cells' minimum growth length.
+// The growth length is its half width (std::clamp with min above max was undefined behaviour).
+TEST(PaneCoupling, ASliverGrowsAtItsHalfWidth) {
+  fracture::PaneFractureInput input;
+  input.width_m = 100.0;
+  input.height_m = 0.001;
+  input.thickness_m = 0.0005;
+  input.pressure_pa = 1e8;  // about 300 MPa of stress
+  input.min_growth_length_m = 0.05;
+  input.max_growth_length_m = 0.0005;
+  const fracture::PaneFracture f = fracture::pane_fracture(input);
+  ASSERT_TRUE(f.breaks);
+  EXPECT_EQ(f.growth_length_m, 0.0005);
+}
+
 TEST(PaneCoupling, EmpiricalFormulasAsPrinted) {
   // Eq. 2.45 at 0 Pa: one square inch times e^(2.4 - sqrt(12.5)).
   EXPECT_NEAR(fracture::empirical_fragment_area_m2(0.0),

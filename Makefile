@@ -8,7 +8,8 @@ GENERATOR := $(shell command -v ninja >/dev/null 2>&1 && echo "-G Ninja")
 # Debian packages the project builds with (see README "Dependencies").
 DEB_PACKAGES := cmake g++ make ninja-build pkg-config \
   libeigen3-dev libboost1.81-dev nlohmann-json3-dev libsqlite3-dev \
-  libgtest-dev libgmock-dev libbenchmark-dev libssl-dev libpq-dev libassimp-dev python3
+  libgtest-dev libgmock-dev libbenchmark-dev libssl-dev libpq-dev libassimp-dev libzstd-dev \
+  python3
 # Only the tests need these: chromium for the browser tests, postgresql (15 on Debian 12) for the
 # PostgreSQL store's tests, which start their own server in a temporary folder, curl and jq for
 # the blocks of docs/pipelines.md (tests/docs/run_doc_blocks.py).

@@ -52,8 +52,14 @@ constexpr std::string_view kHelp =
     "  --max-queue N        queued jobs at which POST gets 429 (10000)        "
     "[BRISANCE_MAX_QUEUE]\n"
     "  --api-keys FILE      require API keys listed (hashed) in FILE          [BRISANCE_API_KEYS]\n"
-    "  --io-threads N       HTTP I/O threads (default 2)                      "
+    "  --io-threads N       HTTP I/O threads (default 4)                      "
     "[BRISANCE_IO_THREADS]\n"
+    "  --request-threads N  threads that parse and validate bodies of 64 KiB  "
+    "[BRISANCE_REQUEST_THREADS]\n"
+    "                       and more, off the I/O threads (default 2)\n"
+    "  --request-queue N    such bodies waiting for them at most (16; 503     "
+    "[BRISANCE_REQUEST_QUEUE]\n"
+    "                       above)\n"
     "  --body-limit-mb M    largest request body, MiB (default 16)          "
     "[BRISANCE_BODY_LIMIT_MB]\n"
     "  --max-asset-mb M     largest mesh file POST /v1/assets takes, MiB    "
@@ -151,6 +157,8 @@ int run_serve(const Args& args, std::ostream& out) {
                            {"max-queue"},
                            {"api-keys"},
                            {"io-threads"},
+                           {"request-threads"},
+                           {"request-queue"},
                            {"body-limit-mb"},
                            {"max-asset-mb"},
                            {"max-connections"},
@@ -181,6 +189,10 @@ int run_serve(const Args& args, std::ostream& out) {
       static_cast<std::uint16_t>(integer_setting(flags, "port", "BRISANCE_PORT", 8080, 0, 65535));
   http.io_threads =
       static_cast<int>(integer_setting(flags, "io-threads", "BRISANCE_IO_THREADS", 4, 1, 64));
+  http.request_threads = static_cast<int>(
+      integer_setting(flags, "request-threads", "BRISANCE_REQUEST_THREADS", 2, 1, 64));
+  http.request_queue = static_cast<std::size_t>(
+      integer_setting(flags, "request-queue", "BRISANCE_REQUEST_QUEUE", 16, 0, 100000));
   http.max_connections = static_cast<std::size_t>(
       integer_setting(flags, "max-connections", "BRISANCE_MAX_CONNECTIONS", 1024, 1, 1000000));
   http.body_limit_bytes = static_cast<std::size_t>(

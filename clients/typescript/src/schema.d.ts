@@ -234,7 +234,9 @@ export interface paths {
          *     `application/octet-stream` anywhere in it selects the binary form; otherwise an `Accept`
          *     naming neither JSON nor `*\/*` is a `406`; otherwise (or without `Accept`) JSON. Poses are
          *     stored as float32. Bodies that do not move (not `animated`) are reported at their initial
-         *     pose in every frame.
+         *     pose in every frame. The body is sent chunked (`Transfer-Encoding: chunked`), made a block
+         *     of frames at a time, so any page size is served in bounded memory; a page is at most the
+         *     run's frames x bodies, which `max_frame_samples` (5 000 000) bounds.
          */
         get: operations["getJobFrames"];
         put?: never;
@@ -316,7 +318,9 @@ export interface paths {
         /**
          * Animated glTF
          * @description The result as one binary glTF 2.0 file: a mesh per body and an animation of the moving
-         *     ones (poses at the stored float32 precision).
+         *     ones (poses at the stored float32 precision). It is built whole in memory, so a result of
+         *     more than 2 000 000 frames x animated bodies (the server's setting) is a `422
+         *     result-too-large`: read its frames and meshes instead.
          */
         get: operations["getJobGlb"];
         put?: never;
@@ -503,7 +507,7 @@ export type webhooks = Record<string, never>;
 export interface components {
     schemas: {
         /** @description The stable URN naming a kind of problem. */
-        ProblemType: "urn:brisance:problem:bad-request" | "urn:brisance:problem:malformed-json" | "urn:brisance:problem:invalid-parameter" | "urn:brisance:problem:unauthorized" | "urn:brisance:problem:forbidden" | "urn:brisance:problem:not-found" | "urn:brisance:problem:method-not-allowed" | "urn:brisance:problem:not-acceptable" | "urn:brisance:problem:job-finished" | "urn:brisance:problem:result-not-ready" | "urn:brisance:problem:payload-too-large" | "urn:brisance:problem:unsupported-media-type" | "urn:brisance:problem:invalid-scene" | "urn:brisance:problem:invalid-input" | "urn:brisance:problem:idempotency-key-reused" | "urn:brisance:problem:invalid-asset" | "urn:brisance:problem:insufficient-storage" | "urn:brisance:problem:overloaded" | "urn:brisance:problem:queue-full" | "urn:brisance:problem:internal-error" | "urn:brisance:problem:result-unavailable" | "urn:brisance:problem:storage-unavailable";
+        ProblemType: "urn:brisance:problem:bad-request" | "urn:brisance:problem:malformed-json" | "urn:brisance:problem:invalid-parameter" | "urn:brisance:problem:unauthorized" | "urn:brisance:problem:forbidden" | "urn:brisance:problem:not-found" | "urn:brisance:problem:method-not-allowed" | "urn:brisance:problem:not-acceptable" | "urn:brisance:problem:job-finished" | "urn:brisance:problem:result-not-ready" | "urn:brisance:problem:payload-too-large" | "urn:brisance:problem:unsupported-media-type" | "urn:brisance:problem:invalid-scene" | "urn:brisance:problem:invalid-input" | "urn:brisance:problem:idempotency-key-reused" | "urn:brisance:problem:invalid-asset" | "urn:brisance:problem:insufficient-storage" | "urn:brisance:problem:overloaded" | "urn:brisance:problem:result-too-large" | "urn:brisance:problem:queue-full" | "urn:brisance:problem:internal-error" | "urn:brisance:problem:result-unavailable" | "urn:brisance:problem:storage-unavailable";
         /** @description An RFC 9457 problem; `type` says which (see `ProblemType`). */
         Problem: {
             type: components["schemas"]["ProblemType"];
@@ -691,6 +695,13 @@ export interface components {
         StorageUnavailableProblem: components["schemas"]["Problem"] & {
             /** @constant */
             type?: "urn:brisance:problem:storage-unavailable";
+            /** @constant */
+            status?: 503;
+            errors?: never;
+        };
+        OverloadedProblem: components["schemas"]["Problem"] & {
+            /** @constant */
+            type?: "urn:brisance:problem:overloaded";
             /** @constant */
             status?: 503;
             errors?: never;
@@ -981,6 +992,11 @@ export interface components {
             collision_pairs_skipped: number;
             /** @description Contact points between bodies solved, summed over steps. */
             contact_points: number;
+            /**
+             * @description The service only (not `brisance run`): bytes the stored result takes, meshes once and
+             *     frames delta-coded and zstd-compressed (lossless).
+             */
+            stored_bytes?: number;
         };
         /** @description The body's material from the materials table (docs/scene-format.md; names such as `brick`, `annealed_glass`), or empty when the scene gave a density or mass instead. A fragment has its pane's material. `result.glb` draws bodies by it (docs/pipelines.md). Absent from results stored before it was recorded. */
         BodyMaterial: string;
@@ -1624,7 +1640,7 @@ export interface components {
          *     (within 1e-3, then normalised); no charge is inside an object; with a ground, no charge
          *     and no object vertex is more than 1 mm below it; a brick wall's `mortar_gap` is shorter
          *     than its bricks; the objects make at most 2 000 000 load panels; frames x bodies stays
-         *     at most 5e7.
+         *     at most 5e6.
          * @example {
          *       "charges": [
          *         {
@@ -2868,7 +2884,21 @@ export interface operations {
                 };
             };
             500: components["responses"]["InternalError"];
-            503: components["responses"]["StorageUnavailable"];
+            /**
+             * @description The job store could not complete the request, or the server is already parsing its
+             *     most large request bodies (`overloaded`: bodies of 64 KiB and more are validated on a
+             *     bounded pool off the I/O threads); retry after `Retry-After`.
+             */
+            503: {
+                headers: {
+                    "X-Request-Id": components["headers"]["X-Request-Id"];
+                    "Retry-After": components["headers"]["Retry-After"];
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["StorageUnavailableProblem"] | components["schemas"]["OverloadedProblem"];
+                };
+            };
         };
     };
     getJob: {
@@ -3269,6 +3299,16 @@ export interface operations {
             401: components["responses"]["Unauthorized"];
             404: components["responses"]["JobNotFound"];
             409: components["responses"]["ResultNotReady"];
+            /** @description `result-too-large`: too many frames x animated bodies for a glb. */
+            422: {
+                headers: {
+                    "X-Request-Id": components["headers"]["X-Request-Id"];
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["Problem"];
+                };
+            };
             500: components["responses"]["InternalError"];
             503: components["responses"]["StorageUnavailable"];
         };

@@ -788,11 +788,11 @@ export interface components {
             name?: components["schemas"]["JobName"];
             labels?: components["schemas"]["JobLabels"];
             /**
-             * @description An `http://` URL told when the job ends: the job's JSON is POSTed there, signed with
-             *     the server's `--callback-secret` (`Brisance-Signature: t=SECONDS,v1=HEX`, HMAC-SHA256
-             *     of `SECONDS.` and the body) and retried with a doubling backoff until a `2xx`
-             *     (docs/service.md "Callbacks"). Default: the server's `--callback-url`, if any.
-             *     `https://` is not supported yet (a `422`).
+             * @description An `http://` or `https://` URL told when the job ends: the job's JSON is POSTed there,
+             *     signed with the server's `--callback-secret` (`Brisance-Signature: t=SECONDS,v1=HEX`,
+             *     HMAC-SHA256 of `SECONDS.` and the body) and retried with a doubling backoff until a
+             *     `2xx` (docs/service.md "Callbacks"). Default: the server's `--callback-url`, if any.
+             *     An https receiver's certificate must chain to the server's trusted CAs.
              * @example http://render-farm:9000/brisance/done
              */
             callback?: string;

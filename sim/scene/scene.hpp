@@ -62,6 +62,10 @@ enum class ShapeType { box, mesh };
 // lumped-mass plate of the pane's size) and its crack pattern are meant for glazing, and beyond
 // some 1e100 m its stiffness underflows to zero. Real panes stay below about 20 m.
 inline constexpr double kMaxPaneSide_m = 100.0;
+// The thinnest breakable pane, m: 0.1 mm, far below any glazing (thin glass starts near 0.5 mm).
+// The plate model's mass and stiffness go with the thickness and its cube; below about 1e-100 m
+// they underflow to zero.
+inline constexpr double kMinPaneThickness_m = 1e-4;
 
 struct FractureSpec {
   enum class Trigger { automatic, always };

@@ -1775,7 +1775,7 @@ export interface components {
          * @description A rigid body. Its mass is `mass`, or `density` (or else the material's density) times the
          *     shape's volume: give `mass` or `density` (not both), or neither with a `material`. With
          *     `fracture` it is a breakable pane: a box `[width, height, thickness]` (thickness the
-         *     smallest, front face +z), of a breakable material (or with `fracture.strength`,
+         *     smallest and at least 0.1 mm, front face +z), of a breakable material (or with `fracture.strength`,
          *     `toughness` and `youngs_modulus`), not anchored.
          */
         SceneObject: {
@@ -2010,7 +2010,7 @@ export interface components {
                 number
             ];
             /**
-             * @description m; at most the width and the height.
+             * @description m; at least 0.1 mm, at most the width and the height.
              * @default 0.006
              */
             thickness?: number;

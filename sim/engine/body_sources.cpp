@@ -46,7 +46,7 @@ BodySource object_source(const scene::ObjectSpec& object, double max_panel_area_
   return source;
 }
 
-BodySources body_sources(const scene::Scene& scene) {
+BodySources body_sources(const scene::Scene& scene, Checkpoint& checkpoint) {
   BodySources sources;
   sources.bodies.reserve(scene.objects.size());
   std::vector<ChargeModel> charges;
@@ -57,13 +57,14 @@ BodySources body_sources(const scene::Scene& scene) {
   std::size_t solver_warnings = 0;
   for (std::size_t index = 0; index < scene.objects.size(); ++index) {
     const scene::ObjectSpec& object = scene.objects[index];
+    checkpoint.tick(64);  // a pane breaking polls on its own; other objects cost microseconds
     if (!object.fracture) {
       sources.bodies.push_back(object_source(object, scene.simulation.max_panel_area_m2));
       continue;
     }
     // Breakable panes (DESIGN.md decision 9): a broken pane's fragments take its place.
     PaneReport report = break_pane(object, index, charges, scene.simulation, sources.bodies,
-                                   out_of_range, solver_warnings);
+                                   out_of_range, solver_warnings, checkpoint);
     // Only the static model's stress is an upper estimate beyond small deflections.
     if (object.fracture->breakage == scene::FractureSpec::Breakage::static_plate)
       large_deflection = large_deflection || !report.small_deflection;

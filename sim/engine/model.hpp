@@ -23,6 +23,7 @@
 #include "sim/blast/panel_load.hpp"
 #include "sim/dynamics/ground_contact.hpp"
 #include "sim/dynamics/rigid_body.hpp"
+#include "sim/engine/interrupt.hpp"
 #include "sim/engine/result.hpp"
 #include "sim/geometry/mesh.hpp"
 #include "sim/scene/scene.hpp"
@@ -197,8 +198,13 @@ Box world_box(const BodySource& source);
 
 // --- Prepare stages, in the order prepare runs them ---
 
-// Every body the run creates: scene objects as they are, breakable panes broken or not.
-BodySources body_sources(const scene::Scene& scene);
+// Every body the run creates: scene objects as they are, breakable panes broken or not. Polls
+// `checkpoint` per object and while a pane breaks.
+BodySources body_sources(const scene::Scene& scene, Checkpoint& checkpoint);
+inline BodySources body_sources(const scene::Scene& scene) {
+  Checkpoint never;
+  return body_sources(scene, never);
+}
 
 // The normal force each body presses down with at the start: its own weight plus its share of
 // the bodies resting on it, N (prepare_holds.cpp).
@@ -217,22 +223,32 @@ Footing footing(const std::vector<BodySource>& sources, std::optional<double> gr
 // The anchored bodies set into movable ones at the start (prepare_holds.cpp): within 5 mm of
 // them, boxes overlapping across the gap, and not standing on the ground themselves.
 std::vector<EmbeddedAnchor> embedded_anchors(const std::vector<BodySource>& sources,
-                                             std::optional<double> ground_height_m);
+                                             std::optional<double> ground_height_m,
+                                             Checkpoint& checkpoint);
 
 // Widens each panel's clearing distance to the contiguous coplanar surface it lies in
 // (clearing_surfaces.cpp).
-void share_clearing_across_surfaces(const std::vector<BodySource>& sources, Model& model);
+void share_clearing_across_surfaces(const std::vector<BodySource>& sources, Model& model,
+                                    Checkpoint& checkpoint);
 
 // Each panel's shielding from each charge, once per charge before stepping (the wave outruns
 // the debris, thesis §4.2.2): fills model.shielding, or leaves it empty where the scene asks for
 // none or nothing can shadow anything (prepare_shielding.cpp).
 void prepare_shielding(const scene::SimulationSpec& simulation,
-                       const std::vector<BodySource>& sources, Model& model, Stats& stats);
+                       const std::vector<BodySource>& sources, Model& model, Stats& stats,
+                       Checkpoint& checkpoint);
 
 // The read-only model; moves each source's mesh into `bodies` (the result's body list). The
-// shielding stage's wall-clock time goes to `shielding_wall_time_s`, s, if given.
+// shielding stage's wall-clock time goes to `shielding_wall_time_s`, s, if given. Every stage
+// polls `checkpoint` (RunCancelled unwinds out of it).
 Model prepare(const scene::Scene& scene, std::vector<BodySource>& sources,
-              std::vector<BodyInfo>& bodies, Stats& stats, double* shielding_wall_time_s = nullptr);
+              std::vector<BodyInfo>& bodies, Stats& stats, Checkpoint& checkpoint,
+              double* shielding_wall_time_s = nullptr);
+inline Model prepare(const scene::Scene& scene, std::vector<BodySource>& sources,
+                     std::vector<BodyInfo>& bodies, Stats& stats) {
+  Checkpoint never;
+  return prepare(scene, sources, bodies, stats, never);
+}
 
 // The pose of a body's shape origin from the state of its centre of mass.
 Pose origin_pose(const Model& model, std::size_t body, const dynamics::BodyState& state);

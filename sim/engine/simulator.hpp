@@ -3,6 +3,7 @@
 // multiples of 1 / frame_rate, skipping whatever the scene does not need (decision 10).
 #pragma once
 
+#include <cstdint>
 #include <functional>
 
 #include "sim/engine/result.hpp"
@@ -13,8 +14,17 @@ namespace brisance::engine {
 struct RunHooks {
   // Called with the fraction of simulated time done (0..1), at most about 200 times a run.
   std::function<void(double fraction)> progress;
-  // Polled once per step; returning true stops the run within that step.
+  // Polled in every phase — while breaking panes (between crack-growth steps and fragments),
+  // in each prepare stage and once per step — some microseconds to a millisecond of work apart;
+  // returning true stops the run there. Once it returned true it must keep doing so.
   std::function<bool()> cancel_requested;
+};
+
+// Where a run was when it stopped before its end.
+enum class RunPhase : std::uint8_t {
+  fracture,  // breaking the panes (body sources)
+  prepare,   // bodies, panels, holds, clearing, shielding, events
+  stepping,
 };
 
 // Wall-clock time of each stage of a run, s: what a benchmark breaks the run down by. Kept out of
@@ -29,6 +39,7 @@ struct StageTimes {
 struct RunOutcome {
   Result result;  // complete unless cancelled
   bool cancelled = false;
+  RunPhase cancelled_in = RunPhase::stepping;  // when cancelled
   StageTimes times;
 };
 

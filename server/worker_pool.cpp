@@ -182,8 +182,18 @@ void WorkerPool::run_job(ClaimedJob claimed) {
       return false;
     };
     try {
-      engine::RunOutcome run = engine::simulate(*parsed.scene, hooks);
-      if (!run.cancelled) {
+      engine::RunBudget budget;
+      budget.limits = service_.options().limits;
+      budget.memory_bytes = options_.job_memory_bytes;
+      engine::RunOutcome run = engine::simulate(*parsed.scene, hooks, budget);
+      if (run.over_budget) {
+        // The scene's own size, found as its panes broke: the job's fault, and it would fail
+        // again on any worker.
+        error_type = run.over_budget->kind == engine::OverBudget::Kind::memory
+                         ? "memory_budget_exceeded"
+                         : "limit_exceeded";
+        error_message = run.over_budget->message;
+      } else if (!run.cancelled) {
         try {
           outcome =
               service_.complete(id, owner_, run.result) ? JobStatus::succeeded : JobStatus::queued;

@@ -11,10 +11,17 @@
 #include <functional>
 #include <utility>
 
+#include "sim/engine/budget.hpp"
+
 namespace brisance::engine {
 
 // Thrown by Checkpoint::poll when the hook asks the run to stop.
 struct RunCancelled {};
+
+// Thrown by BudgetTally when the run would grow past its budget.
+struct RunOverBudget {
+  OverBudget what;
+};
 
 class Checkpoint {
  public:

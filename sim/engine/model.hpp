@@ -196,11 +196,37 @@ struct Box {
 };
 Box world_box(const BodySource& source);
 
+// The run's size as its bodies are created (budget.hpp): counts and an estimate of the bytes the
+// run will hold for them, checked against the budget at each add (budget.cpp).
+class BudgetTally {
+ public:
+  BudgetTally(const RunBudget& budget, const scene::Scene& scene);
+  // A body the run creates: counted, then checked; throws RunOverBudget past a limit or the
+  // memory budget. `fragment`: a piece of a broken pane (counted against max_fragments).
+  void add(const BodySource& source);
+  // The bytes a body of this source costs the run, frames included (budget.cpp).
+  std::uint64_t bytes_of(const BodySource& source) const;
+  std::uint64_t bytes() const { return bytes_; }
+
+ private:
+  void check() const;
+
+  RunBudget budget_;
+  std::uint64_t frames_ = 0;   // stored frames, the first at t = 0 included
+  std::uint64_t charges_ = 0;  // panel events and shielding are per panel and charge
+  std::uint64_t bodies_ = 0;
+  std::uint64_t fragments_ = 0;
+  std::uint64_t panels_ = 0;
+  std::uint64_t bytes_ = 0;
+};
+
 // --- Prepare stages, in the order prepare runs them ---
 
 // Every body the run creates: scene objects as they are, breakable panes broken or not. Polls
 // `checkpoint` per object and while a pane breaks.
-BodySources body_sources(const scene::Scene& scene, Checkpoint& checkpoint);
+// `tally`, if given, counts every body made and stops the run past its budget.
+BodySources body_sources(const scene::Scene& scene, Checkpoint& checkpoint,
+                         BudgetTally* tally = nullptr);
 inline BodySources body_sources(const scene::Scene& scene) {
   Checkpoint never;
   return body_sources(scene, never);

@@ -80,7 +80,7 @@ void report_fragments(const std::vector<BodySource>& sources, const RunState& ru
 
 }  // namespace
 
-RunOutcome simulate(const scene::Scene& scene, const RunHooks& hooks) {
+RunOutcome simulate(const scene::Scene& scene, const RunHooks& hooks, const RunBudget& budget) {
   const auto start = std::chrono::steady_clock::now();
   RunOutcome outcome;
   Result& result = outcome.result;
@@ -99,11 +99,18 @@ RunOutcome simulate(const scene::Scene& scene, const RunHooks& hooks) {
     result.stats.wall_time_s = seconds_since(start);
     return std::move(outcome);
   };
+  // What the run creates is counted as it is created, before prepare and the frames allocate
+  // for it (budget.hpp).
+  BudgetTally tally(budget, scene);
   BodySources sources;
   try {
-    sources = body_sources(scene, checkpoint);
+    sources = body_sources(scene, checkpoint, &tally);
   } catch (const RunCancelled&) {
     return stopped_in(RunPhase::fracture);
+  } catch (RunOverBudget& over) {
+    outcome.over_budget = std::move(over.what);
+    result.stats.wall_time_s = seconds_since(start);
+    return outcome;
   }
   outcome.times.fracture_s = seconds_since(start);
   for (const auto& [code, message] : sources.warnings)

@@ -5,7 +5,9 @@
 
 #include <cstdint>
 #include <functional>
+#include <optional>
 
+#include "sim/engine/budget.hpp"
 #include "sim/engine/result.hpp"
 #include "sim/scene/scene.hpp"
 
@@ -37,12 +39,19 @@ struct StageTimes {
 };
 
 struct RunOutcome {
-  Result result;  // complete unless cancelled
+  Result result;  // complete unless cancelled or over budget
   bool cancelled = false;
   RunPhase cancelled_in = RunPhase::stepping;  // when cancelled
+  // Set when the run stopped because it would grow past its budget (breaking panes made more
+  // fragments, panels or frame samples than the limits allow, or the memory estimate passed
+  // the budget); the result is then incomplete.
+  std::optional<OverBudget> over_budget;
   StageTimes times;
 };
 
-RunOutcome simulate(const scene::Scene& scene, const RunHooks& hooks = {});
+// `budget`: the limits on what the run creates (by default scene::Limits's) and its memory
+// budget (by default none).
+RunOutcome simulate(const scene::Scene& scene, const RunHooks& hooks = {},
+                    const RunBudget& budget = {});
 
 }  // namespace brisance::engine

@@ -179,7 +179,10 @@ struct Limits {
   std::size_t max_panels = 2000000;        // whole scene, after subdivision
   double max_duration_s = 600.0;
   double max_frame_rate_hz = 1000.0;
-  std::size_t max_frame_samples = 50000000;  // frames x bodies
+  std::size_t max_frame_samples = 50000000;  // frames x bodies (fragments of broken panes too)
+  // Fragments all broken panes of a run make together; counted as the panes break (the pattern
+  // depends on the blast), so a run past it stops with an error rather than grow.
+  std::size_t max_fragments = 100000;
 };
 
 // One problem with the input: an RFC 6901 JSON pointer to the offending value and a message that

@@ -819,10 +819,13 @@ export interface components {
             /**
              * @description A stable code: `invalid_scene` (the stored scene no longer validates),
              *     `simulation_error` (the simulator failed), `timeout` (the run exceeded
-             *     `--job-timeout-s`), `worker_lost` (workers running it kept dying, `--max-attempts`).
+             *     `--job-timeout-s`), `worker_lost` (workers running it kept dying, `--max-attempts`),
+             *     `limit_exceeded` (its broken panes made more fragments, load panels or frames x
+             *     bodies than the limits allow), `memory_budget_exceeded` (the run's estimated memory
+             *     passed `--job-memory-mb`); the message says what to change in the scene.
              * @enum {string}
              */
-            type: "invalid_scene" | "simulation_error" | "timeout" | "worker_lost";
+            type: "invalid_scene" | "simulation_error" | "timeout" | "worker_lost" | "limit_exceeded" | "memory_budget_exceeded";
             /** @description What happened, for people. */
             message: string;
         };

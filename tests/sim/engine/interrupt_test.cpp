@@ -162,3 +162,68 @@ TEST(Interrupt, ATimeLimitEndsPrepareOfALargeMesh) {
 
 }  // namespace
 }  // namespace brisance::engine
+
+namespace brisance::engine {
+namespace {
+
+// What breaking panes creates is counted as the panes break (issue 15): past a limit or the
+// memory budget the run stops with a message naming what to change, before prepare and the
+// frames allocate for what it made.
+TEST(Budget, TooManyFragmentsStopTheRunWithinAPane) {
+  const scene::Scene s = many_panes(100);
+  RunBudget budget;
+  budget.limits.max_fragments = 1000;  // the facade makes 47 000
+  int polls = 0;
+  RunHooks hooks;
+  hooks.cancel_requested = [&] {
+    ++polls;
+    return false;
+  };
+  const RunOutcome outcome = simulate(s, hooks, budget);
+  ASSERT_TRUE(outcome.over_budget);
+  EXPECT_EQ(outcome.over_budget->kind, OverBudget::Kind::limit);
+  EXPECT_NE(outcome.over_budget->message.find("more than 1000 fragments (the limit max_fragments)"),
+            std::string::npos);
+  EXPECT_NE(outcome.over_budget->message.find("fracture.growth_length"), std::string::npos);
+  EXPECT_FALSE(outcome.cancelled);
+  EXPECT_EQ(outcome.result.stats.steps, 0u);
+  // Work done: a pane polls a few hundred times while it breaks (crack growth, fragments), so
+  // the few panes up to 1000 fragments poll far fewer times than the hundred panes would.
+  int polls_all = 0;
+  hooks.cancel_requested = [&] {
+    ++polls_all;
+    return false;
+  };
+  budget.limits.max_fragments = 1000000;
+  budget.limits.max_panels = 100000000;
+  const scene::Scene ten = many_panes(10);
+  EXPECT_FALSE(simulate(ten, hooks, budget).over_budget);
+  EXPECT_LT(polls, polls_all);
+}
+
+TEST(Budget, TheFramesOfTheFragmentsCountAgainstTheFrameSamples) {
+  scene::Scene s = many_panes(2);
+  RunBudget budget;
+  budget.limits.max_frame_samples = 500;  // 4 frames x a few hundred fragments is more
+  s.simulation.frame_rate_hz = 30.0;
+  const RunOutcome outcome = simulate(s, {}, budget);
+  ASSERT_TRUE(outcome.over_budget);
+  EXPECT_EQ(outcome.over_budget->kind, OverBudget::Kind::limit);
+  EXPECT_NE(outcome.over_budget->message.find("max_frame_samples = 500"), std::string::npos);
+}
+
+TEST(Budget, AMemoryBudgetStopsARunThatWouldHoldMore) {
+  const scene::Scene s = many_panes(100);
+  RunBudget budget;
+  budget.memory_bytes = 64u << 20;  // the facade holds some 600 MB
+  const RunOutcome outcome = simulate(s, {}, budget);
+  ASSERT_TRUE(outcome.over_budget);
+  EXPECT_EQ(outcome.over_budget->kind, OverBudget::Kind::memory);
+  EXPECT_NE(outcome.over_budget->message.find("over the job memory budget of 64 MB"),
+            std::string::npos);
+  // The same scene's first pane alone fits.
+  EXPECT_FALSE(simulate(many_panes(1), {}, budget).over_budget);
+}
+
+}  // namespace
+}  // namespace brisance::engine

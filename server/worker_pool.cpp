@@ -1,6 +1,7 @@
 #include "server/worker_pool.hpp"
 
 #include <cerrno>
+#include <cstdio>
 #include <random>
 
 #include <nlohmann/json.hpp>
@@ -207,8 +208,9 @@ void WorkerPool::run_job(ClaimedJob claimed) {
         }
       } else if (timed_out) {
         error_type = "timeout";
-        error_message = "the run exceeded the job time limit of " +
-                        std::to_string(static_cast<long long>(options_.job_timeout_s)) + " s";
+        char limit[32];
+        std::snprintf(limit, sizeof limit, "%g", options_.job_timeout_s);
+        error_message = "the run exceeded the job time limit of " + std::string(limit) + " s";
       } else if (cancel_flag->load()) {
         outcome = JobStatus::cancelled;
       }

@@ -8,7 +8,8 @@ GENERATOR := $(shell command -v ninja >/dev/null 2>&1 && echo "-G Ninja")
 # Debian packages the project builds with (see README "Dependencies").
 DEB_PACKAGES := cmake g++ make ninja-build pkg-config \
   libeigen3-dev libboost1.81-dev nlohmann-json3-dev libsqlite3-dev \
-  libgtest-dev libgmock-dev libbenchmark-dev libssl-dev libpq-dev libassimp-dev python3
+  libgtest-dev libgmock-dev libbenchmark-dev libssl-dev libpq-dev libassimp-dev libzstd-dev \
+  python3
 # Only the tests need these: chromium for the browser tests, postgresql (15 on Debian 12) for the
 # PostgreSQL store's tests, which start their own server in a temporary folder, curl and jq for
 # the blocks of docs/pipelines.md (tests/docs/run_doc_blocks.py).
@@ -18,11 +19,14 @@ DEPLOY_TEST_DEB_PACKAGES := systemd strace shellcheck
 # Only the fuzz targets need these (tests/fuzz): Debian 12's clang 14 and its compiler-rt, which
 # has libFuzzer and the sanitizer runtimes.
 FUZZ_DEB_PACKAGES := clang libclang-rt-14-dev
+# Only make narrowphase-bench needs this (the narrowphase against libccd, issue 13); the product
+# does not link it and bench/CMakeLists.txt builds the bench only where it is installed.
+BENCH_DEB_PACKAGES := libccd-dev
 # Seconds `make fuzz` runs each fuzz target.
 FUZZ_SECONDS ?= 60
 FUZZ_TARGETS := fuzz_scene fuzz_http fuzz_writers fuzz_fracture
 
-.PHONY: all deps node gltf-validator web web-test-deps deploy-test-deps fuzz-deps fuzz-build fuzz soak build run test sanitize bench load-bench load-bench-postgres accuracy-study format clean
+.PHONY: all deps node gltf-validator web web-test-deps deploy-test-deps fuzz-deps fuzz-build fuzz soak build run test sanitize bench narrowphase-bench load-bench load-bench-postgres accuracy-study format clean
 
 all: build
 
@@ -145,6 +149,14 @@ bench: build
 	$(BUILD_DIR)/release/bench/occlusion_bench
 	$(BUILD_DIR)/release/bench/response_bench
 	$(BUILD_DIR)/release/bench/facade_bench
+
+# The narrowphase against libccd's GJK/EPA and MPR on the same box pairs
+# (bench/results/narrowphase.txt).
+narrowphase-bench: build
+	$(call apt_install,$(BENCH_DEB_PACKAGES))
+	cmake -S . -B $(BUILD_DIR)/release -U__pkg_config_checked_CCD
+	cmake --build $(BUILD_DIR)/release -j $(JOBS) --target narrowphase_bench
+	$(BUILD_DIR)/release/bench/narrowphase_bench
 
 # The job service under load: POST, GET, fixed-rate and drain phases against a spawned server.
 load-bench: build

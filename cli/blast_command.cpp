@@ -16,7 +16,8 @@ namespace brisance::cli {
 namespace {
 
 constexpr std::string_view kHelp =
-    "usage: brisance blast --charge-kg M --distance-m R [--explosive NAME | --tnt-factor F]\n"
+    "usage: brisance blast --charge-kg M --distance-m R\n"
+    "                      [--explosive NAME | --tnt-factor F [--impulse-tnt-factor G]]\n"
     "                      [--burst air|surface] [--surface-model hemispherical|factor_1_8]\n"
     "                      [--angle-deg A] [--json] [--pulse-csv FILE]\n"
     "\n"
@@ -25,14 +26,18 @@ constexpr std::string_view kHelp =
     "  --distance-m R      distance from the charge centre in m (> 0)\n"
     "  --explosive NAME    explosive (default TNT); 'brisance blast --list-explosives' lists them\n"
     "  --tnt-factor F      custom TNT equivalence factor instead of a named explosive (> 0)\n"
+    "  --impulse-tnt-factor G\n"
+    "                      with --tnt-factor: a separate equivalence for impulses (UFC 3-340-02\n"
+    "                      eq. 2-5; default F); named explosives bring their own\n"
     "  --burst air|surface free-air spherical (default) or surface (hemispherical) burst\n"
     "  --surface-model M   surface bursts: hemispherical curves (default) or factor_1_8\n"
     "                      (free-air curves with 1.8 x the charge)\n"
     "  --angle-deg A       angle of incidence for the reflected values, 0 (head-on) to 90\n"
     "  --json              one JSON object instead of the table (with the pulses and the inputs)\n"
-    "  --pulse-csv FILE    also write the incident and reflected pressure-time pulses\n"
-    "                      (Friedlander, positive phase) as CSV: time_ms since detonation,\n"
-    "                      incident_kpa, reflected_kpa; 200 rows from arrival to the end\n";
+    "  --pulse-csv FILE    also write the incident and reflected pressure-time pulses as CSV:\n"
+    "                      time_ms since detonation, incident_kpa (Friedlander positive phase,\n"
+    "                      then the cubic negative phase), reflected_kpa (positive phase only);\n"
+    "                      200 rows from arrival to the end of the negative phase\n";
 
 constexpr std::size_t kPulseCsvSamples = 200;
 
@@ -73,8 +78,10 @@ BlastRequest parse(const ParsedFlags& flags) {
   return request;
 }
 
-void print_table(std::ostream& out, const io::BlastQuery& request, const blast::BlastPoint& point,
-                 const blast::ObliqueReflection& reflection) {
+void print_table(std::ostream& out, const io::BlastQuery& request, const io::BlastAnswer& answer) {
+  const blast::BlastPoint& point = answer.point;
+  const blast::ObliqueReflection& reflection = answer.reflection;
+  const blast::NegativePhase& negative = answer.negative_phase;
   const bool surface = request.charge.burst == blast::Burst::surface;
   const char* model = !surface ? "free-air spherical burst"
                       : request.charge.surface_model == blast::SurfaceBurstModel::hemispherical
@@ -85,6 +92,9 @@ void print_table(std::ostream& out, const io::BlastQuery& request, const blast::
   out << printf("  charge                     %g kg %s (TNT factor %.3f)\n", request.charge_kg,
                 request.explosive_name.c_str(), request.tnt_factor);
   out << printf("  TNT equivalent         W   %.4g kg\n", point.tnt_equivalent_kg);
+  if (point.impulse_tnt_equivalent_kg != point.tnt_equivalent_kg)
+    out << printf("  ... for impulses       Wi  %.4g kg (impulse factor %.3f)\n",
+                  point.impulse_tnt_equivalent_kg, request.impulse_tnt_factor);
   out << printf("  distance               R   %g m\n", request.distance_m);
   out << printf("  scaled distance        Z   %.4g m/kg^(1/3)\n", point.scaled_distance_m_kg13);
   out << printf("  incident overpressure  Pso %.4g kPa\n", point.incident_overpressure_pa * 1e-3);
@@ -97,7 +107,9 @@ void print_table(std::ostream& out, const io::BlastQuery& request, const blast::
                 reflection.overpressure_pa * 1e-3, request.angle_deg);
   out << printf("  reflected impulse      ir  %.4g kPa*ms\n", reflection.impulse_pa_s);
   out << printf("  reflection coefficient Cr  %.4g\n", reflection.coefficient);
-  if (point.in_validity_range && reflection.in_chart_range) {
+  out << printf("  negative phase: peak underpressure %.4g kPa, impulse %.4g kPa*ms, %.4g ms\n",
+                negative.underpressure_pa * 1e-3, negative.impulse_pa_s, negative.duration_s * 1e3);
+  if (point.in_validity_range && reflection.in_chart_range && negative.in_validity_range) {
     out << "  in validity range          yes\n";
   } else {
     out << "  in validity range          NO: outside the fitted range, values are continued\n"
@@ -113,6 +125,7 @@ int run_blast(const Args& args, std::ostream& out) {
                            {"distance-m"},
                            {"explosive"},
                            {"tnt-factor"},
+                           {"impulse-tnt-factor"},
                            {"burst"},
                            {"surface-model"},
                            {"angle-deg"},
@@ -126,8 +139,9 @@ int run_blast(const Args& args, std::ostream& out) {
   }
   if (flags.has("list-explosives")) {
     for (const blast::Explosive& explosive : blast::known_explosives())
-      out << text::printf("%-20.*s %6.3f  %-9.*s %.*s\n", static_cast<int>(explosive.name.size()),
-                          explosive.name.data(), explosive.tnt_factor,
+      out << text::printf("%-20.*s %6.3f %6.3f  %-9.*s %.*s\n",
+                          static_cast<int>(explosive.name.size()), explosive.name.data(),
+                          explosive.tnt_factor, explosive.impulse_factor(),
                           static_cast<int>(explosive.basis.size()), explosive.basis.data(),
                           static_cast<int>(explosive.source.size()), explosive.source.data());
     return kExitOk;
@@ -143,7 +157,7 @@ int run_blast(const Args& args, std::ostream& out) {
   if (request.json) {
     out << io::blast_answer_json(request.query, answer).dump(2) << "\n";
   } else {
-    print_table(out, request.query, answer.point, answer.reflection);
+    print_table(out, request.query, answer);
   }
   return kExitOk;
 }

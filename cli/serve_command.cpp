@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
+#include <fstream>
 #include <iostream>
 #include <ostream>
 #include <string>
@@ -52,8 +53,14 @@ constexpr std::string_view kHelp =
     "  --max-queue N        queued jobs at which POST gets 429 (10000)        "
     "[BRISANCE_MAX_QUEUE]\n"
     "  --api-keys FILE      require API keys listed (hashed) in FILE          [BRISANCE_API_KEYS]\n"
-    "  --io-threads N       HTTP I/O threads (default 2)                      "
+    "  --io-threads N       HTTP I/O threads (default 4)                      "
     "[BRISANCE_IO_THREADS]\n"
+    "  --request-threads N  threads that parse and validate bodies of 64 KiB  "
+    "[BRISANCE_REQUEST_THREADS]\n"
+    "                       and more, off the I/O threads (default 2)\n"
+    "  --request-queue N    such bodies waiting for them at most (16; 503     "
+    "[BRISANCE_REQUEST_QUEUE]\n"
+    "                       above)\n"
     "  --body-limit-mb M    largest request body, MiB (default 16)          "
     "[BRISANCE_BODY_LIMIT_MB]\n"
     "  --max-asset-mb M     largest mesh file POST /v1/assets takes, MiB    "
@@ -76,11 +83,14 @@ constexpr std::string_view kHelp =
     "                       (survives power loss), normal (default) survives\n"
     "                       any process crash\n"
     "  --grace-s S          on SIGTERM, time running jobs get to finish (10)  [BRISANCE_GRACE_S]\n"
-    "  --callback-url URL   http:// URL told when a job that names none ends  "
+    "  --callback-url URL   http(s):// URL told when a job that names none ends "
     "[BRISANCE_CALLBACK_URL]\n"
     "  --callback-secret S  HMAC-SHA256 key that signs callback deliveries "
     "[BRISANCE_CALLBACK_SECRET]\n"
     "                       (Brisance-Signature; docs/service.md \"Callbacks\")\n"
+    "  --callback-ca FILE   PEM CA certificates https receivers must chain to "
+    "[BRISANCE_CALLBACK_CA]\n"
+    "                       (default: the system's trusted CAs)\n"
     "  --log-level L        debug, info (default), warn or error             "
     "[BRISANCE_LOG_LEVEL]\n";
 
@@ -150,6 +160,8 @@ int run_serve(const Args& args, std::ostream& out) {
                            {"max-queue"},
                            {"api-keys"},
                            {"io-threads"},
+                           {"request-threads"},
+                           {"request-queue"},
                            {"body-limit-mb"},
                            {"max-asset-mb"},
                            {"max-connections"},
@@ -162,6 +174,7 @@ int run_serve(const Args& args, std::ostream& out) {
                            {"grace-s"},
                            {"callback-url"},
                            {"callback-secret"},
+                           {"callback-ca"},
                            {"log-level"},
                            {"web-dir"},
                            {"help", false, "h"}});
@@ -180,6 +193,10 @@ int run_serve(const Args& args, std::ostream& out) {
       static_cast<std::uint16_t>(integer_setting(flags, "port", "BRISANCE_PORT", 8080, 0, 65535));
   http.io_threads =
       static_cast<int>(integer_setting(flags, "io-threads", "BRISANCE_IO_THREADS", 4, 1, 64));
+  http.request_threads = static_cast<int>(
+      integer_setting(flags, "request-threads", "BRISANCE_REQUEST_THREADS", 2, 1, 64));
+  http.request_queue = static_cast<std::size_t>(
+      integer_setting(flags, "request-queue", "BRISANCE_REQUEST_QUEUE", 16, 0, 100000));
   http.max_connections = static_cast<std::size_t>(
       integer_setting(flags, "max-connections", "BRISANCE_MAX_CONNECTIONS", 1024, 1, 1000000));
   http.body_limit_bytes = static_cast<std::size_t>(
@@ -231,6 +248,10 @@ int run_serve(const Args& args, std::ostream& out) {
   CallbackOptions callback_options;
   callback_options.secret =
       setting(flags, "callback-secret", "BRISANCE_CALLBACK_SECRET").value_or("");
+  callback_options.ca_file = setting(flags, "callback-ca", "BRISANCE_CALLBACK_CA").value_or("");
+  if (!callback_options.ca_file.empty() && !std::ifstream(callback_options.ca_file))
+    flags.fail("--callback-ca (or BRISANCE_CALLBACK_CA): cannot read '" + callback_options.ca_file +
+               "'");
 
   const std::string level = setting(flags, "log-level", "BRISANCE_LOG_LEVEL").value_or("info");
   if (level == "debug") {

@@ -2,11 +2,13 @@
 // inner store (server/forwarding_storage) except writing a result, reading its bodies and frames,
 // and collecting blobs.
 #include <algorithm>
+#include <memory>
 #include <utility>
 
 #include <nlohmann/json.hpp>
 
 #include "server/blob_store.hpp"
+#include "server/compact_result.hpp"
 #include "server/forwarding_storage.hpp"
 #include "server/log.hpp"
 
@@ -18,15 +20,16 @@ class BlobStorage final : public ForwardingStorage {
   BlobStorage(std::unique_ptr<Storage> inner, std::unique_ptr<BlobStore> blobs)
       : ForwardingStorage(std::move(inner)), blobs_(std::move(blobs)) {}
 
-  // The blob is durable before the row says succeeded; a blob whose row then fails to commit (the
-  // lease was lost) is named by no job and collected later.
+  // The result is encoded once here (server/compact_result) unless the caller did; the blob is
+  // durable before the row says succeeded; a blob whose row then fails to commit (the lease was
+  // lost) is named by no job and collected later.
   bool complete(std::string_view id, std::string_view owner, const StoredResult& result,
                 std::int64_t now_ms) override {
-    if (!blobs_) return inner_->complete(id, owner, result, now_ms);
-    const std::string bytes = encode_result_blob(result.bodies, result.frames);
-    StoredResult row;
-    row.summary_json = result.summary_json;
-    row.stats_json = result.stats_json;
+    StoredResult row = result;
+    make_compact(&row);
+    if (!blobs_ || row.encoded.empty()) return inner_->complete(id, owner, row, now_ms);
+    const std::string bytes = std::move(row.encoded);
+    row.encoded.clear();
     row.blob_digest = blobs_->put(bytes);
     if (!inner_->complete(id, owner, row, now_ms)) return false;
     // A collector on another node may have taken the blob between its put and this commit.
@@ -38,26 +41,50 @@ class BlobStorage final : public ForwardingStorage {
     return true;
   }
 
+  // Where a result is, newest layout first: a blob (compact, or the older uncompressed blob
+  // layout), a compact row, or job_bodies and job_frames rows.
   std::vector<StoredBody> result_bodies(std::string_view id) override {
-    const std::optional<std::string> digest = inner_->result_blob(id);
-    if (!digest || digest->empty()) return inner_->result_bodies(id);
-    std::vector<StoredBody> bodies;
-    decode_result_blob(load(id, *digest), &bodies, nullptr);
-    return bodies;
+    if (const std::optional<std::string> bytes = compact_or_blob(id)) {
+      if (is_compact_result(*bytes)) return decode_compact_bodies(*bytes);
+      std::vector<StoredBody> bodies;
+      decode_result_blob(*bytes, &bodies, nullptr);
+      return bodies;
+    }
+    return inner_->result_bodies(id);
   }
 
   std::vector<StoredFrame> result_frames(std::string_view id, std::int64_t from,
                                          std::int64_t to) override {
-    const std::optional<std::string> digest = inner_->result_blob(id);
-    if (!digest || digest->empty()) return inner_->result_frames(id, from, to);
+    const std::optional<std::string> bytes = compact_or_blob(id);
+    if (!bytes) return inner_->result_frames(id, from, to);
+    if (is_compact_result(*bytes)) return decode_compact_frames(*bytes, from, to);
     std::vector<StoredFrame> frames;
-    decode_result_blob(load(id, *digest), nullptr, &frames);
+    decode_result_blob(*bytes, nullptr, &frames);
     const auto size = static_cast<std::int64_t>(frames.size());
     const std::int64_t first = std::clamp<std::int64_t>(from, 0, size);
     const std::int64_t last = std::clamp<std::int64_t>(to, first, size);
     frames.erase(frames.begin() + last, frames.end());
     frames.erase(frames.begin(), frames.begin() + first);
     return frames;
+  }
+
+  FrameReader frame_reader(std::string_view id) override {
+    std::optional<std::string> bytes = compact_or_blob(id);
+    if (!bytes) return ForwardingStorage::frame_reader(id);
+    if (is_compact_result(*bytes)) {
+      auto held = std::make_shared<const std::string>(std::move(*bytes));
+      return [held](std::int64_t from, std::int64_t to) {
+        return decode_compact_frames(*held, from, to);
+      };
+    }
+    auto frames = std::make_shared<std::vector<StoredFrame>>();
+    decode_result_blob(*bytes, nullptr, frames.get());
+    return [frames](std::int64_t from, std::int64_t to) {
+      const auto size = static_cast<std::int64_t>(frames->size());
+      const std::int64_t first = std::clamp<std::int64_t>(from, 0, size);
+      const std::int64_t last = std::clamp<std::int64_t>(to, first, size);
+      return std::vector<StoredFrame>(frames->begin() + first, frames->begin() + last);
+    };
   }
 
   std::int64_t collect_blobs(std::int64_t now_ms) override {
@@ -68,6 +95,13 @@ class BlobStorage final : public ForwardingStorage {
   }
 
  private:
+  // The bytes of job `id`'s blob or compact row; nullopt when its result is in rows.
+  std::optional<std::string> compact_or_blob(std::string_view id) {
+    const std::optional<std::string> digest = inner_->result_blob(id);
+    if (digest && !digest->empty()) return load(id, *digest);
+    return inner_->result_encoded(id);
+  }
+
   // The checked bytes of job `id`'s blob; a BlobError (logged here, with the job) when there are
   // none to give.
   std::string load(std::string_view id, const std::string& digest) {

@@ -23,6 +23,8 @@ namespace brisance::server {
 
 struct CallbackOptions {
   std::string secret;  // the HMAC key; empty: deliveries are sent unsigned
+  std::string
+      ca_file;  // PEM CAs https receivers must chain to; empty: the system's (--callback-ca)
   int max_attempts = 8;
   std::chrono::milliseconds first_backoff{2000};  // doubles after every failed attempt
   std::chrono::milliseconds max_backoff{600000};
@@ -35,15 +37,17 @@ struct CallbackOptions {
 // "t=UNIX_SECONDS,v1=HEX": HMAC-SHA256 under `secret` of "UNIX_SECONDS." followed by the body.
 std::string callback_signature(std::string_view secret, std::int64_t unix_s, std::string_view body);
 
-// One POST of `body` (application/json) to an http:// URL with `headers`: the status the
-// receiver answered, or 0 and what went wrong (resolve, connect, timeout).
+// One POST of `body` (application/json) to an http:// or https:// URL with `headers`: the status
+// the receiver answered, or 0 and what went wrong (resolve, connect, timeout, TLS). https needs
+// TLS 1.2 or later and a certificate that chains to `ca_file` (PEM; empty: the system's CAs) and
+// names the URL's host.
 struct PostOutcome {
   int status = 0;
   std::string error;
 };
 PostOutcome post_json(const std::string& url, const std::string& body,
                       const std::vector<std::pair<std::string, std::string>>& headers,
-                      std::chrono::milliseconds timeout);
+                      std::chrono::milliseconds timeout, const std::string& ca_file = {});
 
 class CallbackSender {
  public:

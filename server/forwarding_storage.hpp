@@ -98,6 +98,9 @@ class ForwardingStorage : public Storage {
                                          std::int64_t to) override {
     return inner_->result_frames(id, from, to);
   }
+  std::optional<std::string> result_encoded(std::string_view id) override {
+    return inner_->result_encoded(id);
+  }
   std::int64_t collect_blobs(std::int64_t now_ms) override { return inner_->collect_blobs(now_ms); }
 
  protected:

@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <atomic>
+#include <functional>
 #include <mutex>
+#include <optional>
 #include <random>
 #include <set>
 #include <thread>
@@ -13,6 +15,7 @@
 #include <boost/asio/post.hpp>
 #include <boost/asio/steady_timer.hpp>
 #include <boost/asio/strand.hpp>
+#include <boost/asio/thread_pool.hpp>
 #include <boost/beast/core.hpp>
 #include <boost/beast/http.hpp>
 #include <nlohmann/json.hpp>
@@ -55,6 +58,10 @@ struct HttpServer::Impl {
   asio::io_context ioc;
   tcp::acceptor acceptor{ioc};
   std::vector<std::thread> threads;
+  // Requests with large bodies (HttpOptions::offload_body_bytes) run here, off the I/O threads;
+  // `offloaded` counts those queued or running.
+  asio::thread_pool request_pool{static_cast<std::size_t>(std::max(1, options.request_threads))};
+  std::atomic<std::size_t> offloaded{0};
   std::atomic<bool> draining{false};
   std::atomic<int> in_flight{0};  // requests read and not yet fully answered
 
@@ -164,24 +171,52 @@ class HttpServer::Impl::Session : public std::enable_shared_from_this<Session> {
     request_.body = std::move(message.body());
     request_.request_id = request_id_for(request_.header("x-request-id"));
     keep_alive_ = message.keep_alive();
+    if (request_.body.size() >= server_.options.offload_body_bytes) return offload();
     handle({});
   }
 
-  void handle(const std::optional<LongPoll>& poll) {
-    HttpResponse r;
+  void handle(const std::optional<LongPoll>& poll) { answered(answer(poll)); }
+
+  HttpResponse answer(const std::optional<LongPoll>& poll) {
     try {
-      r = server_.api.handle(request_, poll);
+      return server_.api.handle(request_, poll);
     } catch (...) {
       // Api::handle answers every failure itself; this is the last line, so that no request can
-      // end the process from an I/O thread.
-      r = Api::problem(500, "internal-error", "Internal error",
-                       "the server failed to answer this request; the request id is in the "
-                       "X-Request-Id header and the server log");
+      // end the process from a server thread.
       log_event(LogLevel::error, "request failed outside the API",
                 {{"request_id", request_.request_id}});
+      return Api::problem(500, "internal-error", "Internal error",
+                          "the server failed to answer this request; the request id is in the "
+                          "X-Request-Id header and the server log");
     }
+  }
+
+  void answered(HttpResponse r) {
     if (r.wait) return park(std::move(*r.wait));
     respond(std::move(r));
+  }
+
+  // A large body is parsed and validated on the request pool; the answer comes back to this
+  // connection's strand. The session reads nothing meanwhile (one request at a time), so request_
+  // is the pool's alone until then. A full pool queue is a 503, as a full connection table is.
+  void offload() {
+    const std::size_t limit =
+        server_.options.request_queue + static_cast<std::size_t>(server_.options.request_threads);
+    if (++server_.offloaded > limit) {
+      --server_.offloaded;
+      HttpResponse r = Api::problem(503, "overloaded", "Too many large requests",
+                                    "the server is already parsing " + std::to_string(limit) +
+                                        " large request bodies; retry after the Retry-After delay");
+      r.headers.emplace_back("Retry-After", "1");
+      return respond(std::move(r));
+    }
+    asio::post(server_.request_pool, [self = shared_from_this()] {
+      HttpResponse r = self->answer({});
+      asio::post(self->stream_.get_executor(), [self, r = std::move(r)]() mutable {
+        --self->server_.offloaded;
+        self->answered(std::move(r));
+      });
+    });
   }
 
   // Waits for the job to change, the deadline, or a one-second re-check (another process may
@@ -220,6 +255,10 @@ class HttpServer::Impl::Session : public std::enable_shared_from_this<Session> {
       response->insert(name, value);
     const bool keep = keep_alive_ && !server_.draining;
     response->keep_alive(keep);
+    if (r.stream) {
+      record(r);
+      return stream(std::move(*response), std::move(r.stream));
+    }
     if (request_.method == "HEAD") {
       // The length the GET would have sent, and no body (RFC 9110 §9.3.2).
       response->content_length(r.body.size());
@@ -228,6 +267,18 @@ class HttpServer::Impl::Session : public std::enable_shared_from_this<Session> {
       response->prepare_payload();
     }
 
+    record(r);
+    stream_.expires_after(server_.options.read_timeout);
+    http::async_write(stream_, *response,
+                      [self = shared_from_this(), response](beast::error_code ec, std::size_t) {
+                        --self->server_.in_flight;
+                        if (ec || response->need_eof()) return self->close();
+                        self->read();
+                      });
+  }
+
+  // The metrics and the log line of an answer (for a streamed one, when its head goes out).
+  void record(const HttpResponse& r) {
     const double seconds = std::chrono::duration<double>(Clock::now() - started_).count();
     server_.metrics.record_request(r.route, request_.method, r.status, seconds);
     if (log_enabled(LogLevel::info)) {
@@ -240,14 +291,68 @@ class HttpServer::Impl::Session : public std::enable_shared_from_this<Session> {
                  {"status", r.status},
                  {"ms", seconds * 1e3}});
     }
+  }
 
+  // A chunked response whose body `next` makes piece by piece (HttpResponse::stream): the head,
+  // then one chunk per piece, each written before the next is made, so the memory held is one
+  // piece; a HEAD gets the head only. Beast's buffer_body answers need_buffer when a piece is
+  // written and more are to come.
+  struct Streamed {
+    http::response<http::buffer_body> message;
+    std::optional<http::response_serializer<http::buffer_body>> serializer;
+    std::function<bool(std::string&)> next;
+    std::string piece;
+    bool more = true;
+  };
+
+  void stream(http::response<http::string_body> head, std::function<bool(std::string&)> next) {
+    auto s = std::make_shared<Streamed>();
+    s->message.base() = std::move(head.base());
+    s->message.chunked(true);
+    s->message.body().data = nullptr;
+    s->message.body().more = request_.method != "HEAD";
+    s->next = std::move(next);
+    s->serializer.emplace(s->message);
     stream_.expires_after(server_.options.read_timeout);
-    http::async_write(stream_, *response,
-                      [self = shared_from_this(), response](beast::error_code ec, std::size_t) {
-                        --self->server_.in_flight;
-                        if (ec || response->need_eof()) return self->close();
-                        self->read();
+    http::async_write_header(stream_, *s->serializer,
+                             [self = shared_from_this(), s](beast::error_code ec, std::size_t) {
+                               if (ec) return self->end_stream(true);
+                               if (self->request_.method == "HEAD")
+                                 return self->end_stream(!s->message.keep_alive());
+                               self->stream_piece(s);
+                             });
+  }
+
+  void stream_piece(const std::shared_ptr<Streamed>& s) {
+    s->piece.clear();
+    try {
+      while (s->more && s->piece.empty())
+        s->more = s->next(s->piece);
+    } catch (const std::exception& error) {
+      log_event(LogLevel::error, "streamed response failed",
+                {{"request_id", request_.request_id}, {"error", error.what()}});
+      return end_stream(true);  // a chunked body cut short: the client sees it incomplete
+    } catch (...) {
+      log_event(LogLevel::error, "streamed response failed", {{"request_id", request_.request_id}});
+      return end_stream(true);
+    }
+    s->message.body().data = s->piece.empty() ? nullptr : s->piece.data();
+    s->message.body().size = s->piece.size();
+    s->message.body().more = s->more;
+    stream_.expires_after(server_.options.read_timeout);
+    http::async_write(stream_, *s->serializer,
+                      [self = shared_from_this(), s](beast::error_code ec, std::size_t) {
+                        if (ec == http::error::need_buffer) return self->stream_piece(s);
+                        if (ec) return self->end_stream(true);
+                        if (!s->serializer->is_done()) return self->stream_piece(s);
+                        self->end_stream(!s->message.keep_alive());
                       });
+  }
+
+  void end_stream(bool close_connection) {
+    --server_.in_flight;
+    if (close_connection) return close();
+    read();
   }
 
   void close() {
@@ -405,6 +510,9 @@ void HttpServer::stop(std::chrono::milliseconds drain) {
     }
     std::this_thread::sleep_for(std::chrono::milliseconds(10));
   }
+  // Requests still waiting for the pool are dropped (their connections close with the server).
+  i.request_pool.stop();
+  i.request_pool.join();
   i.ioc.stop();
   for (auto& t : i.threads)
     t.join();

@@ -22,6 +22,13 @@ struct HttpOptions {
   std::chrono::seconds idle_timeout{60};  // a keep-alive connection may sit idle this long
   // Open connections at most; one more is answered 503 `overloaded` and closed at once.
   std::size_t max_connections = 1024;
+  // A request with a body of at least this many bytes (a scene to parse and validate, an asset
+  // to import) is answered on a pool of `request_threads` threads of its own, not on an I/O
+  // thread, so a few slow ones cannot hold up /healthz and the rest. At most `request_queue`
+  // such requests wait for the pool; one more is answered 503 `overloaded`.
+  std::size_t offload_body_bytes = 64 * 1024;
+  int request_threads = 2;
+  std::size_t request_queue = 16;
   std::string server_name = "brisance";
 };
 

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <chrono>
+#include <functional>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -36,6 +37,11 @@ struct HttpResponse {
   std::vector<std::pair<std::string, std::string>> headers;
   std::string route = "unmatched";  // route template, for metrics and logs
   std::optional<LongPoll> wait;     // set: not a response yet, wait and ask again
+  // Set: the body is made piece by piece and sent chunked (`body` is ignored), so a large
+  // result is never whole in memory. Each call appends the next piece to `out` and returns
+  // whether more follow; it runs on the connection's I/O thread, so a piece must be cheap to
+  // make. A throw ends the connection (the status line is already sent).
+  std::function<bool(std::string& out)> stream;
 };
 
 }  // namespace brisance::server

@@ -8,6 +8,7 @@
 #include <boost/url/parse.hpp>
 #include <nlohmann/json.hpp>
 
+#include "server/compact_result.hpp"
 #include "server/sha256.hpp"
 #include "sim/io/gltf.hpp"
 #include "sim/io/result_codec.hpp"
@@ -66,11 +67,9 @@ std::size_t characters(std::string_view text) {
 std::optional<std::string> check_callback_url(std::string_view url) {
   if (url.size() > 2000) return "callback URLs have at most 2000 characters";
   const auto parsed = boost::urls::parse_absolute_uri(url);
-  if (!parsed) return "callback must be an absolute URL http://host[:port][/path]";
-  if (parsed->scheme() == "https")
-    return "https callbacks are not supported yet: give an http URL (a relay on the receiving "
-           "side can forward it over TLS); deliveries are signed either way";
-  if (parsed->scheme() != "http") return "callback URLs use http://";
+  if (!parsed) return "callback must be an absolute URL http[s]://host[:port][/path]";
+  if (parsed->scheme() != "http" && parsed->scheme() != "https")
+    return "callback URLs use http:// or https://";
   if (parsed->host().empty()) return "callback URL without a host";
   if (parsed->has_userinfo()) return "callback URLs take no user:password@; use the signature";
   if (parsed->has_port() && (parsed->port_number() == 0 || parsed->port().empty()))
@@ -426,7 +425,15 @@ JobService::Progress JobService::report_progress(const std::string& id, std::str
 
 bool JobService::complete(const std::string& id, std::string_view owner,
                           const engine::Result& result) {
-  return storage_.complete(id, owner, to_stored_result(result), now_ms());
+  // Encoded here rather than in the store so the size is known to count; the store keeps the
+  // bytes as they are.
+  StoredResult stored = to_stored_result(result);
+  make_compact(&stored);
+  const std::uint64_t bytes = stored.encoded.size();
+  if (!storage_.complete(id, owner, stored, now_ms())) return false;
+  ++stored_results_;
+  stored_result_bytes_ += bytes;
+  return true;
 }
 
 void JobService::fail(const std::string& id, std::string_view owner, std::string_view error_type,
@@ -597,6 +604,14 @@ std::optional<ResultLayout> JobService::result_layout(std::string_view id) {
 io::FrameSet JobService::result_frame_set(std::string_view id, const ResultLayout& layout,
                                           std::int64_t from, std::int64_t to,
                                           const std::vector<std::uint32_t>& bodies) {
+  return frame_set(
+      [this, id](std::int64_t a, std::int64_t b) { return storage_.result_frames(id, a, b); },
+      layout, from, to, bodies);
+}
+
+io::FrameSet JobService::frame_set(const Storage::FrameReader& reader, const ResultLayout& layout,
+                                   std::int64_t from, std::int64_t to,
+                                   const std::vector<std::uint32_t>& bodies) {
   assert(0 <= from && from <= to);
   // Where each requested body's pose sits in a stored frame: its animated slot, or none.
   std::vector<std::int64_t> slot(layout.body_count(), -1);
@@ -605,7 +620,7 @@ io::FrameSet JobService::result_frame_set(std::string_view id, const ResultLayou
   io::FrameSet frames;
   frames.first_frame = static_cast<std::uint64_t>(from);
   frames.bodies = bodies;
-  const std::vector<StoredFrame> stored = storage_.result_frames(id, from, to);
+  const std::vector<StoredFrame> stored = reader(from, to);
   frames.times_s.reserve(stored.size());
   frames.poses.reserve(stored.size() * bodies.size());
   for (const StoredFrame& frame : stored) {

@@ -25,15 +25,29 @@
 
 namespace brisance::server {
 
+// The scene limits of the service: the simulator's, with at most 5 000 000 frames x bodies
+// instead of its 5e7 (`brisance run` streams its output to files; the service stores every
+// result and serves it back: docs/service.md, "Result sizes and their bound").
+inline constexpr std::size_t kServiceMaxFrameSamples = 5000000;
+inline scene::Limits service_limits() {
+  scene::Limits limits;
+  limits.max_frame_samples = kServiceMaxFrameSamples;
+  return limits;
+}
+
 struct ServiceOptions {
   std::int64_t max_queue = 10000;  // queued jobs above which submissions get 429
   int max_attempts = 3;            // claims before a job that keeps killing workers fails
   std::size_t max_asset_bytes = 8 * 1024 * 1024;  // larger uploads to /v1/assets get 413
-  scene::Limits limits;
+  scene::Limits limits = service_limits();
   std::string default_callback_url;  // for jobs that name none ('' none); --callback-url
+  // The most frames x animated bodies a result.glb is built for: it is made whole in memory
+  // (docs/service.md, bench/results/result_storage.md); above it the route answers 422
+  // result-too-large and points to the frames, which stream.
+  std::int64_t max_glb_frame_samples = 2000000;
 };
 
-// A callback URL a job may name: http://host[:port][/path], at most 2000 characters. nullopt
+// A callback URL a job may name: http[s]://host[:port][/path], at most 2000 characters. nullopt
 // when valid, else why not.
 std::optional<std::string> check_callback_url(std::string_view url);
 
@@ -159,10 +173,19 @@ class JobService {
   // io::frames_document_json(set, layout.frame_count) or io::frames_to_brf1(set).
   io::FrameSet result_frame_set(std::string_view id, const ResultLayout& layout, std::int64_t from,
                                 std::int64_t to, const std::vector<std::uint32_t>& bodies);
+  // The same from a reader of the result's frames (result_frame_reader), for a page streamed in
+  // blocks: each block is read and encoded on its own.
+  static io::FrameSet frame_set(const Storage::FrameReader& reader, const ResultLayout& layout,
+                                std::int64_t from, std::int64_t to,
+                                const std::vector<std::uint32_t>& bodies);
+  Storage::FrameReader result_frame_reader(std::string_view id) {
+    return storage_.frame_reader(id);
+  }
   // The body of GET /v1/jobs/{id}/meshes ({"bodies": []} without a result).
   std::string result_meshes_json(std::string_view id);
   // The body of GET /v1/jobs/{id}/result.glb: the stored meshes and float32 frames (quaternions
-  // renormalised) through io::to_glb; nullopt when the job has no result.
+  // renormalised) through io::to_glb; nullopt when the job has no result. It is built whole in
+  // memory, so the route refuses results above ServiceOptions::max_glb_frame_samples.
   std::optional<std::vector<std::uint8_t>> result_glb(std::string_view id);
 
   // For the workers (server/worker_pool): a claimed job's life under its owner's lease, `owner`
@@ -195,6 +218,10 @@ class JobService {
   std::int64_t collect_blobs() { return storage_.collect_blobs(now_ms()); }
 
   QueueCounts queue_counts() { return storage_.queue_counts(now_ms()); }
+  // Results this process stored and their encoded bytes (server/compact_result), for /metrics.
+  StoredResultTotals stored_result_totals() const {
+    return {stored_results_.load(), stored_result_bytes_.load()};
+  }
   bool database_ok() { return storage_.ping(); }
 
   ChangeNotifier& notifier() { return notifier_; }
@@ -222,6 +249,9 @@ class JobService {
 
   std::mutex running_mutex_;
   std::map<std::string, std::shared_ptr<std::atomic<bool>>, std::less<>> running_;
+
+  std::atomic<std::uint64_t> stored_results_{0};
+  std::atomic<std::uint64_t> stored_result_bytes_{0};
 
   std::mutex queued_mutex_;
   std::int64_t queued_cached_ = 0;

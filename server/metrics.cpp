@@ -98,7 +98,8 @@ void Metrics::record_job(JobStatus outcome, double run_seconds) {
   job_run_time_.observe(run_seconds);
 }
 
-std::string Metrics::render(const QueueCounts& queue, const WorkerGauges& workers) const {
+std::string Metrics::render(const QueueCounts& queue, const WorkerGauges& workers,
+                            const StoredResultTotals& stored) const {
   std::string out;
   out.reserve(8192);
   std::lock_guard lock(mutex_);
@@ -155,6 +156,18 @@ std::string Metrics::render(const QueueCounts& queue, const WorkerGauges& worker
         std::max<double>(0.0, static_cast<double>(now - *queue.oldest_queued_created_ms) / 1000.0);
   }
   append_number(out, age_s);
+  out += '\n';
+  out +=
+      "# HELP brisance_results_stored_total Results this process stored.\n"
+      "# TYPE brisance_results_stored_total counter\n"
+      "brisance_results_stored_total ";
+  append_count(out, stored.results);
+  out +=
+      "\n# HELP brisance_result_stored_bytes_total Bytes of the results this process stored, "
+      "as encoded (meshes once, frames delta-coded and zstd-compressed).\n"
+      "# TYPE brisance_result_stored_bytes_total counter\n"
+      "brisance_result_stored_bytes_total ";
+  append_count(out, stored.bytes);
   out += '\n';
   return out;
 }

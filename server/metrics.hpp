@@ -40,7 +40,8 @@ class Metrics {
   Metrics();
   void record_request(std::string_view route, std::string_view method, int status, double seconds);
   void record_job(JobStatus outcome, double run_seconds);
-  std::string render(const QueueCounts& queue, const WorkerGauges& workers) const;
+  std::string render(const QueueCounts& queue, const WorkerGauges& workers,
+                     const StoredResultTotals& stored = {}) const;
 
  private:
   mutable std::mutex mutex_;

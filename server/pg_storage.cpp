@@ -219,6 +219,10 @@ class PgStorage final : public Storage {
             "initial_pose, vertices, triangles) VALUES ($1, $2, $3, $4, $5, $6, $7, $8)",
             params);
       }
+      if (!result.encoded.empty()) {
+        c.exec("INSERT INTO job_results (job_seq, data) VALUES ($1, $2)",
+               pg::Params().add(seq).add_bytes(std::span<const char>(result.encoded)));
+      }
       for (std::size_t first = 0; first < result.frames.size(); first += kFramesPerInsert) {
         const std::size_t last = std::min(result.frames.size(), first + kFramesPerInsert);
         pg::Params params;
@@ -421,6 +425,19 @@ class PgStorage final : public Storage {
         bodies.push_back(std::move(b));
       }
       return bodies;
+    });
+  }
+
+  std::optional<std::string> result_encoded(std::string_view id) override {
+    if (!storable(id)) return std::nullopt;
+    return pool_.with_connection([&](pg::Connection& c) -> std::optional<std::string> {
+      const pg::Result r = c.exec(
+          "SELECT r.data FROM job_results r JOIN jobs j ON j.seq = r.job_seq "
+          "WHERE j.id = $1 AND j.status = 'succeeded'",
+          pg::Params().add(id));
+      if (r.rows() == 0) return std::nullopt;
+      const std::vector<char> bytes = r.bytes<char>(0, 0);
+      return std::string(bytes.begin(), bytes.end());
     });
   }
 

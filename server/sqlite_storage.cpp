@@ -228,6 +228,11 @@ class SqliteStorage final : public Storage {
         s.reset();
       }
     }
+    if (!result.encoded.empty()) {
+      auto s = c->prepare("INSERT INTO job_results (job_seq, data) VALUES (?, ?)");
+      s.bind(1, seq).bind_blob(2, std::span<const char>(result.encoded));
+      s.run();
+    }
     {
       auto s =
           c->prepare("INSERT INTO job_frames (job_seq, frame, time_s, poses) VALUES (?, ?, ?, ?)");
@@ -427,6 +432,17 @@ class SqliteStorage final : public Storage {
       bodies.push_back(std::move(b));
     }
     return bodies;
+  }
+
+  std::optional<std::string> result_encoded(std::string_view id) override {
+    auto c = acquire();
+    auto s = c->prepare(
+        "SELECT r.data FROM job_results r JOIN jobs j ON j.seq = r.job_seq "
+        "WHERE j.id = ? AND j.status = 'succeeded'");
+    s.bind(1, id);
+    if (!s.step()) return std::nullopt;
+    const std::vector<char> bytes = s.blob<char>(0);
+    return std::string(bytes.begin(), bytes.end());
   }
 
   std::vector<StoredFrame> result_frames(std::string_view id, std::int64_t from,

@@ -149,6 +149,15 @@ struct StoredResult {
   // Non-empty: the bodies and frames are in the blob store (server/blob_store) under this SHA-256
   // (64 hex digits) and `bodies` and `frames` are empty; the job row keeps only the digest.
   std::string blob_digest;
+  // Non-empty: the bodies and frames as one compact byte string (server/compact_result), stored
+  // as one row of job_results; `bodies` and `frames` are then empty.
+  std::string encoded;
+};
+
+// Results stored by this process since it started, and their encoded size in bytes.
+struct StoredResultTotals {
+  std::uint64_t results = 0;
+  std::uint64_t bytes = 0;
 };
 
 struct QueueCounts {
@@ -218,6 +227,17 @@ class Storage {
   // Frames [from, to) of a succeeded job.
   virtual std::vector<StoredFrame> result_frames(std::string_view id, std::int64_t from,
                                                  std::int64_t to) = 0;
+  // Reads frames [from, to) of one result, page after page: a store whose result is one byte
+  // string (server/blob_storage) reads it once for all the pages.
+  using FrameReader = std::function<std::vector<StoredFrame>(std::int64_t from, std::int64_t to)>;
+  virtual FrameReader frame_reader(std::string_view id) {
+    return [this, id = std::string(id)](std::int64_t from, std::int64_t to) {
+      return result_frames(id, from, to);
+    };
+  }
+  // A succeeded job's compact result (StoredResult::encoded); nullopt when it has none (its
+  // result is in job_bodies and job_frames rows, or in the blob store, or it has not succeeded).
+  virtual std::optional<std::string> result_encoded(std::string_view id) = 0;
 
   // Assets. put_asset stores the asset unless the owner already has one with that id; it returns
   // the stored record and whether it was new. get_asset and asset_bytes look among `owner`'s

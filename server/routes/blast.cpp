@@ -39,8 +39,11 @@ HttpResponse blast_calculator(const Context& c) {
 HttpResponse explosives(const Context& c) {
   json list = json::array();
   for (const blast::Explosive& e : blast::known_explosives()) {
-    list.push_back(json{
-        {"name", e.name}, {"tnt_factor", e.tnt_factor}, {"basis", e.basis}, {"source", e.source}});
+    list.push_back(json{{"name", e.name},
+                        {"tnt_factor", e.tnt_factor},
+                        {"impulse_tnt_factor", e.impulse_factor()},
+                        {"basis", e.basis},
+                        {"source", e.source}});
   }
   return etagged(c.request, json{{"explosives", list}}.dump());
 }

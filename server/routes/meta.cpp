@@ -36,7 +36,8 @@ HttpResponse readyz(const Context& c) {
 HttpResponse metrics(const Context& c) {
   HttpResponse r;
   r.content_type = "text/plain; version=0.0.4; charset=utf-8";
-  r.body = c.metrics.render(c.service.queue_counts(), c.worker_gauges());
+  r.body = c.metrics.render(c.service.queue_counts(), c.worker_gauges(),
+                            c.service.stored_result_totals());
   return r;
 }
 

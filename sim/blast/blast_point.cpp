@@ -23,6 +23,13 @@ double curve_charge_kg(const Charge& charge) {
              : charge.tnt_equivalent_kg;
 }
 
+double curve_impulse_charge_kg(const Charge& charge) {
+  if (!(charge.impulse_tnt_equivalent_kg > 0.0)) return curve_charge_kg(charge);
+  return charge.burst == Burst::surface && charge.surface_model == SurfaceBurstModel::factor_1_8
+             ? kSurfaceFactor * charge.impulse_tnt_equivalent_kg
+             : charge.impulse_tnt_equivalent_kg;
+}
+
 BlastPoint blast_point(const Charge& charge, double distance_m, const Ambient& air) {
   assert(charge.tnt_equivalent_kg > 0.0 && distance_m > 0.0);
   const double w = curve_charge_kg(charge);
@@ -42,6 +49,16 @@ BlastPoint blast_point(const Charge& charge, double distance_m, const Ambient& a
   point.shock_velocity_m_s = scaled.shock_velocity_m_s;
   point.dynamic_pressure_pa = rh_dynamic_pressure_pa(scaled.incident_overpressure_pa, air);
   point.in_validity_range = scaled.in_validity_range;
+  point.impulse_tnt_equivalent_kg = charge.tnt_equivalent_kg;
+  if (charge.impulse_tnt_equivalent_kg > 0.0 &&
+      charge.impulse_tnt_equivalent_kg != charge.tnt_equivalent_kg) {
+    const double cube_root_wi = std::cbrt(curve_impulse_charge_kg(charge));
+    const ScaledBlast by_impulse = kingery_bulmash(curve_for(charge), distance_m / cube_root_wi);
+    point.impulse_tnt_equivalent_kg = charge.impulse_tnt_equivalent_kg;
+    point.incident_impulse_pa_s = by_impulse.incident_impulse_pa_s_kg13 * cube_root_wi;
+    point.reflected_impulse_pa_s = by_impulse.reflected_impulse_pa_s_kg13 * cube_root_wi;
+    point.in_validity_range = point.in_validity_range && by_impulse.in_validity_range;
+  }
   return point;
 }
 

@@ -22,12 +22,16 @@ struct Charge {
   double tnt_equivalent_kg = 1.0;  // W = mass * TNT equivalence factor, > 0
   Burst burst = Burst::air;
   SurfaceBurstModel surface_model = SurfaceBurstModel::hemispherical;
+  // W for impulses (UFC 3-340-02 eq. 2-5) where the explosive has its own impulse factor;
+  // 0: the same as tnt_equivalent_kg.
+  double impulse_tnt_equivalent_kg = 0.0;
 };
 
 // Everything the curves give at one distance; impulses and times are absolute (not scaled).
 struct BlastPoint {
   double scaled_distance_m_kg13 = 0.0;  // Z = R / W^(1/3), with the W the curves are entered with
   double tnt_equivalent_kg = 0.0;       // W of the charge (before the 1.8 surface factor)
+  double impulse_tnt_equivalent_kg = 0.0;  // W the impulses are computed with
   double incident_overpressure_pa = 0.0;
   double incident_impulse_pa_s = 0.0;
   double arrival_time_s = 0.0;
@@ -39,9 +43,14 @@ struct BlastPoint {
   bool in_validity_range = true;     // Z inside every fitted range
 };
 
-// The curve and the charge mass the curves are entered with for this charge.
+// The curve and the charge mass the curves are entered with for this charge: for pressures,
+// arrival and duration, and for impulses.
 BurstCurve curve_for(const Charge& charge);
 double curve_charge_kg(const Charge& charge);
+double curve_impulse_charge_kg(const Charge& charge);
+
+// Pressures and times come from the pressure equivalence, impulses (incident and reflected)
+// from the impulse equivalence.
 
 // All parameters at distance_m (> 0) from the charge.
 BlastPoint blast_point(const Charge& charge, double distance_m, const Ambient& air = {});

@@ -11,11 +11,13 @@ namespace {
 // itself from Smith & Hetherington, "Blast and Ballistic Loading of Structures" (1994).
 // Pressure-based factors are the peak-overpressure column of UFC 3-340-02 (2008) Table 2-1
 // "equivalent weight" factors, cross-checked in two reproductions (MSB B02-301, 2017, table 2.2,
-// and the DDESB TP-20 blast effects computer's explosive list); UFC gives an impulse-based factor
-// beside it, not used here because peak loads drive Brisance's panels and no citable copy of
-// that column could be found to check a transcription against (docs/blast-model.md).
+// and the DDESB TP-20 blast effects computer's explosive list). UFC gives an impulse-based factor
+// beside it. Its values here (C-4 1.19, H-6 1.15, Tritonal 0.96) come from one public
+// transcription of Table 2-1 whose pressure column agrees with ours for all three; the other
+// rows of that column could not be checked against any copy and are not used: their impulses use
+// the pressure (or energy) factor, as before (docs/blast-model.md).
 constexpr std::string_view kThesis = "thesis table 2.1 (Smith & Hetherington 1994)";
-constexpr std::string_view kUfc = "UFC 3-340-02 (2008) table 2-1, pressure column";
+constexpr std::string_view kUfc = "UFC 3-340-02 (2008) table 2-1";
 
 constexpr std::array kExplosives = {
     Explosive{"TNT", 1.000, "energy", kThesis},
@@ -30,11 +32,11 @@ constexpr std::array kExplosives = {
     Explosive{"Torpex", 1.667, "energy", kThesis},
     Explosive{"ANFO", 0.82, "pressure", kUfc},
     Explosive{"Composition A-3", 1.09, "pressure", kUfc},
-    Explosive{"Composition C-4", 1.37, "pressure", kUfc},
+    Explosive{"Composition C-4", 1.37, "pressure", kUfc, 1.19},
     Explosive{"Cyclotol 70/30", 1.14, "pressure", kUfc},
     Explosive{"HBX-1", 1.17, "pressure", kUfc},
     Explosive{"HBX-3", 1.14, "pressure", kUfc},
-    Explosive{"H-6", 1.38, "pressure", kUfc},
+    Explosive{"H-6", 1.38, "pressure", kUfc, 1.15},
     Explosive{"Minol II", 1.20, "pressure", kUfc},
     Explosive{"Octol", 1.06, "pressure", kUfc},
     Explosive{"PBX-9404", 1.13, "pressure", kUfc},
@@ -43,7 +45,7 @@ constexpr std::array kExplosives = {
     Explosive{"Tetryl", 1.07, "pressure", kUfc},
     Explosive{"Tetrytol", 1.06, "pressure", kUfc},
     Explosive{"TNETB", 1.36, "pressure", kUfc},
-    Explosive{"Tritonal", 1.07, "pressure", kUfc},
+    Explosive{"Tritonal", 1.07, "pressure", kUfc, 0.96},
 };
 
 struct Alias {

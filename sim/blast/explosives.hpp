@@ -1,5 +1,7 @@
 // sim/blast/explosives: TNT equivalence of explosives (thesis table 2.1 and UFC 3-340-02).
 // A charge of mass m of explosive X acts like W = m * factor kilograms of TNT (thesis §2.4.1).
+// UFC 3-340-02 §2-13 gives some explosives two factors, one that matches the peak pressure and
+// one that matches the impulse (its eqs. 2-4 and 2-5); where it does, both are kept.
 #pragma once
 
 #include <optional>
@@ -14,6 +16,13 @@ struct Explosive {
   double tnt_factor;        // W / m
   std::string_view basis;   // what the factor equates: "energy", or "pressure" (peak overpressure)
   std::string_view source;  // where the factor is published
+  // W / m for impulses (UFC 3-340-02 eq. 2-5); 0: the same as tnt_factor.
+  double impulse_tnt_factor = 0.0;
+
+  // The factor impulses are computed with.
+  double impulse_factor() const {
+    return impulse_tnt_factor > 0.0 ? impulse_tnt_factor : tnt_factor;
+  }
 };
 
 // Every built-in explosive, TNT first.

@@ -58,15 +58,16 @@ void solve_pair_contacts(std::vector<SolverBody>& bodies, std::vector<PairContac
     c.mass_u = masses[1];
     c.mass_v = masses[2];
     const double approach = relative_speed(a, b, c, n, 0);
+    c.approach_before = approach;
     // Restitution on the approach speed before this step's gravity: a body resting on another
     // gains g dt towards it every step, which must not become a bounce however long the step
     // (with 0.1 s steps that is 0.98 m/s, above the bounce threshold).
     const double impact = approach - c.gravity_speed_m_s;
-    const double gap = std::max(0.0, -c.depth_m);
-    if (impact < -settings.bounce_threshold_m_s && approach * dt <= -gap)
-      c.target_speed = -c.restitution * impact;
+    const double start_depth = c.depth_m + approach * dt;  // before this step's motion
+    if (impact < -settings.bounce_threshold_m_s && c.depth_m >= 0.0)
+      c.target_speed = -c.restitution * impact;  // met within the step, fast: a bounce
     else
-      c.target_speed = -gap / dt;  // a gap may close within the step, no more
+      c.target_speed = std::min(start_depth, 0.0) / dt;  // a gap may close within the step
   }
   // Warm start.
   for (PairContact& c : contacts) {
@@ -123,16 +124,21 @@ void solve_pair_contacts(std::vector<SolverBody>& bodies, std::vector<PairContac
   for (const PairContact& c : contacts)
     next[c.key] =
         c.normal_impulse * c.normal + c.friction_u * c.tangent_u + c.friction_v * c.tangent_v;
-  // Positions: a few passes of shifts along the normals, in proportion to the inverse masses,
-  // each contact's depth corrected by the shifts so far. Shifts move no velocity: they add no
-  // energy.
+  // Positions: the depth each contact has once the caller moves the bodies by their velocity
+  // change over the step, then a few passes of shifts along the normals of the penetration
+  // beyond the slop, in proportion to the inverse masses, each contact's depth corrected by the
+  // shifts so far. Shifts move no velocity: they add no energy.
+  for (PairContact& c : contacts) {
+    const double speed = relative_speed(bodies[c.a], bodies[c.b], c, c.normal, 0);
+    c.depth_after_m = c.depth_m - (speed - c.approach_before) * dt;
+  }
   for (int pass = 0; pass < 3; ++pass) {
     for (const PairContact& c : contacts) {
       SolverBody& a = bodies[c.a];
       SolverBody& b = bodies[c.b];
       const double weight = a.inverse_mass + b.inverse_mass;
       if (weight <= 0.0) continue;
-      const double depth = c.depth_m - (b.position_shift - a.position_shift).dot(c.normal);
+      const double depth = c.depth_after_m - (b.position_shift - a.position_shift).dot(c.normal);
       if (depth <= settings.slop_m) continue;
       const double shift = settings.position_correction * (depth - settings.slop_m) / weight;
       a.position_shift -= shift * a.inverse_mass * c.normal;

@@ -44,6 +44,8 @@ struct PairContact {
   std::array<Vec3, 3> lever_a = kZeros, lever_b = kZeros, spin_a = kZeros, spin_b = kZeros;
   double mass_normal = 0.0, mass_u = 0.0, mass_v = 0.0;
   double target_speed = 0.0;
+  double approach_before = 0.0;  // normal speed of b relative to a before the solve, m/s
+  double depth_after_m = 0.0;    // once the bodies move with the solved velocities
   double normal_impulse = 0.0, friction_u = 0.0, friction_v = 0.0;
 };
 
@@ -53,13 +55,20 @@ using ContactImpulses = std::unordered_map<std::uint64_t, Vec3>;
 struct PairSolveSettings {
   double dt_s;
   double bounce_threshold_m_s = 0.5;  // slower impacts do not bounce, as on the ground
-  int iterations = 8;
+  int iterations = 60;
   double slop_m = 5e-4;              // penetration left alone (no jitter)
   double position_correction = 0.6;  // of the penetration beyond the slop, per step
 };
 
 // Solves the contacts: velocities of `bodies` updated in place, each contact's impulses set,
 // and `next` filled with them for the next step's warm start.
+//
+// The contacts are found at the end of a step whose positions were advanced with the velocities
+// handed in (x1 = x0 + v dt); the caller moves each body again by (v' - v) dt with the solved
+// velocities v', so that x1' = x0 + v' dt: the solve acts on this step's motion, not the next
+// one's. Each contact's depth at the start of the step is its depth minus the approach it made
+// within the step; a gap there may close within the step, no more, and a penetration there is
+// not pushed out by velocity (which would add energy) but by the position shifts.
 void solve_pair_contacts(std::vector<SolverBody>& bodies, std::vector<PairContact>& contacts,
                          const ContactImpulses& last, ContactImpulses& next,
                          const PairSolveSettings& settings);

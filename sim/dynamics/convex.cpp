@@ -35,6 +35,35 @@ void set_bounding_sphere(ConvexPiece& piece) {
     piece.radius_m = std::max(piece.radius_m, (v - piece.centre).norm());
 }
 
+// Each face's vertices (those on its plane), in order around the face.
+void set_faces(ConvexPiece& piece) {
+  const double tolerance = 1e-7 * std::max(piece.radius_m, 1e-9);
+  piece.faces.assign(piece.normals.size(), {});
+  for (std::size_t f = 0; f < piece.normals.size(); ++f) {
+    const Vec3& n = piece.normals[f];
+    std::vector<std::uint8_t>& face = piece.faces[f];
+    Vec3 centre = Vec3::Zero();
+    for (std::size_t i = 0; i < piece.vertices.size(); ++i)
+      if (std::abs(n.dot(piece.vertices[i]) - piece.offsets[f]) <= tolerance) {
+        face.push_back(static_cast<std::uint8_t>(i));
+        centre += piece.vertices[i];
+      }
+    if (face.empty()) continue;
+    centre /= static_cast<double>(face.size());
+    const Vec3 e1 = std::abs(n.x()) < 0.57 ? Vec3(Vec3::UnitX().cross(n).normalized())
+                                           : Vec3(Vec3::UnitY().cross(n).normalized());
+    const Vec3 e2 = n.cross(e1);
+    std::vector<std::pair<double, std::uint8_t>> around;
+    for (std::uint8_t i : face) {
+      const Vec3 d = piece.vertices[i] - centre;
+      around.emplace_back(std::atan2(e2.dot(d), e1.dot(d)), i);
+    }
+    std::sort(around.begin(), around.end());
+    for (std::size_t k = 0; k < around.size(); ++k)
+      face[k] = around[k].second;
+  }
+}
+
 // The faces of the convex hull of `points` by brute force: every plane through three points
 // with all points on one side. O(n^4) for n points, which is why only pieces of at most
 // kMaxHullVertices points come here (a box: 56 triples).
@@ -99,6 +128,7 @@ ConvexPiece piece_from(const std::vector<Vec3>& points, const std::vector<Plane>
       add_edge_direction(piece, direction);
     }
   set_bounding_sphere(piece);
+  set_faces(piece);
   return piece;
 }
 
@@ -197,6 +227,7 @@ bool prism_piece(const geometry::TriangleMesh& mesh, const std::vector<Vec3>& po
     add_edge_direction(piece, direction);
   }
   set_bounding_sphere(piece);
+  set_faces(piece);
   shape.pieces.push_back(std::move(piece));
   return true;
 }
@@ -275,12 +306,6 @@ void extent(const std::vector<Vec3>& vertices, const Vec3& axis, double& low, do
   }
 }
 
-bool inside(const PlacedPiece& piece, const Vec3& p, double margin) {
-  for (std::size_t f = 0; f < piece.normals.size(); ++f)
-    if (piece.normals[f].dot(p) - piece.offsets[f] > margin) return false;
-  return true;
-}
-
 // Closest points of segments p0-p1 and q0-q1 (clamped), returned as their midpoint.
 Vec3 closest_midpoint(const Vec3& p0, const Vec3& p1, const Vec3& q0, const Vec3& q1,
                       double& distance_squared) {
@@ -302,6 +327,77 @@ Vec3 closest_midpoint(const Vec3& p0, const Vec3& p1, const Vec3& q0, const Vec3
   return 0.5 * (x + y);
 }
 
+// A point of a clipped polygon and the feature it comes from (for warm starting).
+struct ClipPoint {
+  Vec3 point;
+  std::uint32_t feature;
+};
+
+// Sutherland-Hodgman: the part of `polygon` with normal . x <= offset, into `out`.
+void clip(const std::vector<ClipPoint>& polygon, const Vec3& normal, double offset,
+          std::uint32_t side, std::vector<ClipPoint>& out) {
+  out.clear();
+  const std::size_t n = polygon.size();
+  for (std::size_t k = 0; k < n; ++k) {
+    const ClipPoint& p = polygon[k];
+    const ClipPoint& q = polygon[(k + 1) % n];
+    const double dp = normal.dot(p.point) - offset;
+    const double dq = normal.dot(q.point) - offset;
+    if (dp <= 0.0) out.push_back(p);
+    if ((dp < 0.0 && dq > 0.0) || (dp > 0.0 && dq < 0.0)) {
+      // Where the incident edge p-q crosses the side: tagged by the side and the edge.
+      const std::uint32_t edge = (p.feature * 7u + q.feature * 13u) & 0xFu;
+      out.push_back(
+          ClipPoint{p.point + (dp / (dp - dq)) * (q.point - p.point), ((side & 0x7u) << 4) | edge});
+    }
+  }
+}
+
+// The contact points of a face contact: `incident`'s face most opposed to `reference`'s face
+// `face`, clipped to the planes through the reference face's edges (square to it), and kept
+// where within the margin of the reference plane, each midway between the surfaces. The
+// normal (from a to b) is the reference face's, reversed when the reference is b.
+void face_manifold(const PlacedPiece& reference, const PlacedPiece& incident, std::size_t face,
+                   bool reference_is_b, double margin_m, std::uint32_t feature_base,
+                   Manifold& out) {
+  const Vec3& n = reference.normals[face];
+  const double offset = reference.offsets[face];
+  std::size_t opposed = 0;
+  for (std::size_t f = 1; f < incident.normals.size(); ++f)
+    if (incident.normals[f].dot(n) < incident.normals[opposed].dot(n)) opposed = f;
+  thread_local std::vector<ClipPoint> polygon, clipped;
+  polygon.clear();
+  // Incident vertices: 128 + their index (64 apart for either reference side).
+  const std::uint32_t vertex_tag = reference_is_b ? 192u : 128u;
+  for (std::uint8_t i : incident.piece->faces[opposed])
+    polygon.push_back(ClipPoint{incident.vertices[i], vertex_tag + (i & 0x3Fu)});
+  const std::vector<std::uint8_t>& sides = reference.piece->faces[face];
+  Vec3 centre = Vec3::Zero();
+  for (std::uint8_t i : sides)
+    centre += reference.vertices[i];
+  centre /= static_cast<double>(std::max<std::size_t>(sides.size(), 1));
+  for (std::size_t k = 0; k < sides.size() && !polygon.empty(); ++k) {
+    const Vec3& p = reference.vertices[sides[k]];
+    const Vec3& q = reference.vertices[sides[(k + 1) % sides.size()]];
+    Vec3 outward = (q - p).cross(n);
+    const double length = outward.norm();
+    if (length <= 0.0) continue;
+    outward /= length;
+    if (outward.dot(centre - p) > 0.0) outward = -outward;
+    // Clipped a little outside the side (the margin): a vertex of an equal brick stacked on
+    // another stays a vertex, with the same feature from step to step (for warm starting),
+    // instead of becoming a crossing of edges whenever the bricks turn by a hair.
+    clip(polygon, outward, outward.dot(p) + margin_m, static_cast<std::uint32_t>(k), clipped);
+    std::swap(polygon, clipped);
+  }
+  out.normal = reference_is_b ? Vec3(-n) : n;
+  for (const ClipPoint& c : polygon) {
+    const double depth = offset - n.dot(c.point);
+    if (depth < -margin_m) continue;
+    out.points.push_back(ContactPoint{c.point + 0.5 * depth * n, depth, feature_base + c.feature});
+  }
+}
+
 }  // namespace
 
 bool collide(const PlacedPiece& a, const PlacedPiece& b, double margin_m,
@@ -314,6 +410,8 @@ bool collide(const PlacedPiece& a, const PlacedPiece& b, double margin_m,
   // (by 0.1 margin), so resting faces keep a face normal.
   double best = -INFINITY;
   Vec3 axis = Vec3::UnitY();
+  std::size_t reference_face = 0;  // of a, or of b if reference_is_b
+  bool reference_is_b = false;
   for (std::size_t f = 0; f < a.normals.size(); ++f) {
     double low, high;
     extent(b.vertices, a.normals[f], low, high);
@@ -322,6 +420,7 @@ bool collide(const PlacedPiece& a, const PlacedPiece& b, double margin_m,
     if (separation > best) {
       best = separation;
       axis = a.normals[f];
+      reference_face = f;
     }
   }
   for (std::size_t f = 0; f < b.normals.size(); ++f) {
@@ -332,6 +431,8 @@ bool collide(const PlacedPiece& a, const PlacedPiece& b, double margin_m,
     if (separation > best) {
       best = separation;
       axis = -b.normals[f];
+      reference_face = f;
+      reference_is_b = true;
     }
   }
   const Vec3 between = 0.5 * (b.min + b.max - a.min - a.max);
@@ -358,31 +459,11 @@ bool collide(const PlacedPiece& a, const PlacedPiece& b, double margin_m,
   double a_low, a_high, b_low, b_high;
   extent(a.vertices, axis, a_low, a_high);
   extent(b.vertices, axis, b_low, b_high);
-  // The manifold: vertices of each piece inside the other (within the margin), each at the
-  // midpoint of its penetration along the normal.
-  if (!edge_axis) {
-    for (std::size_t i = 0; i < b.vertices.size(); ++i) {
-      const Vec3& v = b.vertices[i];
-      if (!inside(a, v, margin_m)) continue;
-      const double depth = a_high - axis.dot(v);
-      out.points.push_back(ContactPoint{v + 0.5 * depth * axis, depth,
-                                        feature_base + 128 + static_cast<std::uint32_t>(i)});
-    }
-    const std::size_t from_b = out.points.size();
-    for (std::size_t i = 0; i < a.vertices.size(); ++i) {
-      const Vec3& u = a.vertices[i];
-      if (!inside(b, u, margin_m)) continue;
-      const double depth = axis.dot(u) - b_low;
-      const Vec3 point = u - 0.5 * depth * axis;
-      // Coinciding corners (equal boxes stacked) count once.
-      bool duplicate = false;
-      for (std::size_t k = 0; k < from_b && !duplicate; ++k)
-        duplicate = (out.points[k].point - point).squaredNorm() < margin_m * margin_m;
-      if (!duplicate)
-        out.points.push_back(
-            ContactPoint{point, depth, feature_base + static_cast<std::uint32_t>(i)});
-    }
-  }
+  // The manifold on a face axis: the most opposed face of the other piece, clipped to the
+  // sides of the reference face, its points within the margin of the reference plane.
+  if (!edge_axis)
+    face_manifold(reference_is_b ? b : a, reference_is_b ? a : b, reference_face, reference_is_b,
+                  margin_m, feature_base, out);
   if (out.points.size() > 4) {
     // Four points carry a face contact: the extremes along two directions across the normal
     // (a brick on two others has eight within the margin; the solve costs per point).

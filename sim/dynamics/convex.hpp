@@ -9,8 +9,10 @@
 //     user's concave mesh is rare in a blast scene; the hull keeps debris out of it, at the
 //     price of resting on its hull.
 // The narrowphase is separating axes (face normals of both pieces, cross products of their
-// edge directions) with a manifold of the vertices of each piece that lie inside the other
-// (within a margin), the same kind of point contact as the ground's. See docs/simulator.md
+// edge directions); on a face axis the manifold is the other piece's most opposed face clipped
+// to the sides of the reference face (the corners of the overlap, not only the vertices of
+// either piece: two boxes offset across each other touch over a rectangle one of whose corners
+// is neither's vertex), the same kind of point contact as the ground's. See docs/simulator.md
 // ("Contacts between bodies") for the benchmark that chose it over libccd's GJK/EPA.
 #pragma once
 
@@ -29,6 +31,7 @@ struct ConvexPiece {
   std::vector<double> offsets;                     // face planes: normal . x <= offset, m
   std::vector<Vec3> edge_directions;               // unit, one per parallel class
   std::vector<std::array<std::uint8_t, 2>> edges;  // vertex index pairs of the hull's edges
+  std::vector<std::vector<std::uint8_t>> faces;    // per face: its vertices, in order around it
   Vec3 centre = Vec3::Zero();                      // of the vertices' bounding sphere
   double radius_m = 0.0;                           // of that sphere
 };

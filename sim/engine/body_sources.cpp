@@ -12,6 +12,7 @@ namespace brisance::engine {
 blast::Charge blast_charge(const scene::ChargeSpec& spec) {
   blast::Charge charge;
   charge.tnt_equivalent_kg = spec.mass_kg * spec.tnt_factor;
+  charge.impulse_tnt_equivalent_kg = spec.mass_kg * spec.impulse_tnt_factor;
   charge.burst = spec.burst;
   charge.surface_model = spec.surface_model;
   return charge;

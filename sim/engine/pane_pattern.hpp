@@ -47,6 +47,17 @@ fracture::PlateResponse pane_stress(const scene::FractureSpec& spec, const PaneS
                                     const PaneLoad& load, double load_scale = 1.0,
                                     std::size_t* solver_warnings = nullptr);
 
+// The pattern's bit bucket: the scene's grid (cells along the pane's longer side) unless the
+// growth length is shorter than kCellsPerGrowth of its cells; then finer, at most
+// kFinestPatternGrid (the largest `fracture.grid` a scene may ask for; a finer grid given to
+// `brisance fracture` stays). Eq. 5.5's growth length
+// is clamped at kMinCellsPerGrowth cells of the finest grid: beyond that, pressure no longer
+// refines the pattern (docs/fracture.md).
+inline constexpr int kFinestPatternGrid = 4096;
+inline constexpr double kCellsPerGrowth = 4.0;
+inline constexpr double kMinCellsPerGrowth = 2.0;
+int pattern_grid(int grid, double longer_m, double growth_length_m);
+
 // The pane `spec` of `pane`'s size under `load`, its pattern grown from `seed`. The parameters
 // are not validated here: a scene's spec was, and the CLI checks fracture::validate(params) with
 // the flags it took.

@@ -65,6 +65,11 @@ struct RunState {
   std::vector<std::uint32_t> sweep_order;
   dynamics::ContactImpulses contact_impulses, next_contact_impulses;
   std::vector<std::uint8_t> touching_body;
+  // The bodies integrated this step and whether each touched the ground: with contacts between
+  // bodies, sleeping is judged after them (sleep_after_contacts).
+  std::vector<std::uint32_t> stepped;
+  std::vector<std::uint8_t> touching_ground;
+  std::vector<std::uint8_t> ground_with_bodies;  // its ground contact is solved in collide
   // The step's buffers, kept to spare their allocations.
   std::vector<dynamics::PairContact> pair_contacts, sorted_contacts;
   std::vector<std::uint32_t> contact_held, sorted_held;
@@ -102,8 +107,11 @@ class Run {
   void integrate_awake(double dt);  // with ground contact and sleeping
   void collide(double dt);          // contacts between bodies (collide.cpp)
   void init_collisions();
+  void sleep_after_contacts(double dt);
 
   void activate(const PanelEvent& event);
+  int contact_substeps(const dynamics::BodyModel& body, const dynamics::BodyState& state,
+                       double dt) const;
   int ground_substeps(const dynamics::BodyModel& body, const dynamics::BodyState& state,
                       double dt) const;
   double next_step(double t, double until) const;

@@ -87,7 +87,10 @@ PaneFracture pane_fracture(const PaneFractureInput& input, const PlateResponse& 
   result.critical_crack_length_m =
       critical_crack_length_m(input.fracture_toughness_pa_sqrt_m, result.plate.stress_pa);
   const double scaled = input.pattern_scale * result.critical_crack_length_m;
-  result.growth_length_m = std::clamp(scaled, input.min_growth_length_m, input.max_growth_length_m);
+  // std::clamp needs min <= max; a caller's min above its max gives way to the max.
+  result.growth_length_m =
+      std::clamp(scaled, std::min(input.min_growth_length_m, input.max_growth_length_m),
+                 input.max_growth_length_m);
   result.clamped = result.growth_length_m != scaled;
   return result;
 }

@@ -50,15 +50,27 @@ std::vector<BlastQueryError> parse_blast_query(
          "and " + spell("explosive") + " name the explosive twice: give one, not both");
   } else if (lookup("tnt_factor")) {
     query.tnt_factor = positive("tnt_factor", "kg TNT per kg of explosive");
+    query.impulse_tnt_factor = query.tnt_factor;
     query.explosive_name = "custom";
   } else if (explosive) {
     if (const auto found = blast::find_explosive(*explosive)) {
       query.explosive_name = found->name;
       query.tnt_factor = found->tnt_factor;
+      query.impulse_tnt_factor = found->impulse_factor();
     } else {
       fail("explosive", "names no known explosive ('" + *explosive +
                             "'); known: " + blast::known_explosive_names() + " (or give " +
                             spell("tnt_factor") + ")");
+    }
+  }
+
+  if (lookup("impulse_tnt_factor")) {
+    if (!lookup("tnt_factor")) {
+      fail("impulse_tnt_factor", "goes with " + spell("tnt_factor") +
+                                     " (a custom explosive); a named explosive brings its own");
+    } else {
+      query.impulse_tnt_factor =
+          positive("impulse_tnt_factor", "kg TNT per kg of explosive, for impulses");
     }
   }
 
@@ -88,6 +100,7 @@ std::vector<BlastQueryError> parse_blast_query(
     }
   }
   query.charge.tnt_equivalent_kg = query.charge_kg * query.tnt_factor;
+  query.charge.impulse_tnt_equivalent_kg = query.charge_kg * query.impulse_tnt_factor;
   // Beyond the fits' range (Z up to 40 m/kg^(1/3)) the result is flagged, not refused; but far
   // beyond it their extrapolation underflows to an overpressure of 0 Pa, which the reflection
   // cannot take (distance_m=5.8e89 tripped its assert; found by fuzz_http).
@@ -113,6 +126,7 @@ BlastAnswer calculate_blast(const BlastQuery& query) {
   answer.reflected_pulse =
       blast::make_pulse(blast::PulseShape::friedlander, answer.reflection.overpressure_pa,
                         answer.point.positive_duration_s, answer.reflection.impulse_pa_s);
+  answer.negative_phase = blast::negative_phase(query.charge, query.distance_m);
   return answer;
 }
 
@@ -121,6 +135,7 @@ nlohmann::ordered_json blast_report_json(const blast::BlastPoint& point,
   nlohmann::ordered_json out;
   out["scaled_distance_m_kg13"] = point.scaled_distance_m_kg13;
   out["tnt_equivalent_kg"] = point.tnt_equivalent_kg;
+  out["impulse_tnt_equivalent_kg"] = point.impulse_tnt_equivalent_kg;
   out["incident_overpressure_kpa"] = point.incident_overpressure_pa * 1e-3;
   out["incident_impulse_kpa_ms"] = point.incident_impulse_pa_s;  // Pa*s == kPa*ms
   out["arrival_time_ms"] = point.arrival_time_s * 1e3;
@@ -140,6 +155,7 @@ nlohmann::ordered_json blast_inputs_json(const BlastQuery& query) {
   out["distance_m"] = query.distance_m;
   out["explosive"] = query.explosive_name;
   out["tnt_factor"] = query.tnt_factor;
+  out["impulse_tnt_factor"] = query.impulse_tnt_factor;
   out["burst"] = query.charge.burst == blast::Burst::air ? "air" : "surface";
   out["surface_model"] = query.charge.surface_model == blast::SurfaceBurstModel::hemispherical
                              ? "hemispherical"
@@ -165,21 +181,32 @@ nlohmann::ordered_json blast_answer_json(const BlastQuery& query, const BlastAns
   nlohmann::ordered_json out = blast_report_json(answer.point, answer.reflection);
   out["incident_pulse"] = pulse_json(answer.incident_pulse);
   out["reflected_pulse"] = pulse_json(answer.reflected_pulse);
+  const blast::NegativePhase& negative = answer.negative_phase;
+  nlohmann::ordered_json suction;
+  suction["underpressure_kpa"] = negative.underpressure_pa * 1e-3;
+  suction["impulse_kpa_ms"] = negative.impulse_pa_s;  // Pa*s == kPa*ms
+  suction["duration_ms"] = negative.duration_s * 1e3;
+  suction["chart_duration_ms"] = negative.chart_duration_s * 1e3;
+  suction["in_validity_range"] = negative.in_validity_range;
+  out["negative_phase"] = std::move(suction);
   out["inputs"] = blast_inputs_json(query);
   return out;
 }
 
 std::string blast_pulse_csv(const BlastAnswer& answer, std::size_t samples) {
   const double arrival_s = answer.point.arrival_time_s;
+  const double positive_s = answer.incident_pulse.duration_s;
   const double end_s =
-      std::max(answer.incident_pulse.duration_s, answer.reflected_pulse.duration_s);
+      std::max(positive_s + answer.negative_phase.duration_s, answer.reflected_pulse.duration_s);
   std::string out = "time_ms,incident_kpa,reflected_kpa\n";
   char line[96];
   for (std::size_t i = 0; i < samples; ++i) {
     const double t_s = end_s * static_cast<double>(i) / static_cast<double>(samples - 1);
+    const double incident_pa = t_s < positive_s
+                                   ? answer.incident_pulse.pressure_pa(t_s)
+                                   : answer.negative_phase.pressure_pa(t_s - positive_s);
     std::snprintf(line, sizeof line, "%.6g,%.6g,%.6g\n", (arrival_s + t_s) * 1e3,
-                  answer.incident_pulse.pressure_pa(t_s) * 1e-3,
-                  answer.reflected_pulse.pressure_pa(t_s) * 1e-3);
+                  incident_pa * 1e-3, answer.reflected_pulse.pressure_pa(t_s) * 1e-3);
     out += line;
   }
   return out;

@@ -33,15 +33,6 @@ void append_u32(std::string& out, std::uint32_t value) {
 }
 
 // The header: magic, first frame, frame count, body count and the body indices.
-std::string brf1_header(const FrameSet& frames) {
-  std::string out = "BRF1";
-  append_u32(out, static_cast<std::uint32_t>(frames.first_frame));
-  append_u32(out, static_cast<std::uint32_t>(frames.frame_count()));
-  append_u32(out, static_cast<std::uint32_t>(frames.bodies.size()));
-  for (const std::uint32_t body : frames.bodies)
-    append_u32(out, body);
-  return out;
-}
 
 // One frame record: its time (f64), then x y z qx qy qz qw (f32) per body.
 void append_brf1_frame(std::string& out, const FrameSet& frames, std::size_t frame) {
@@ -56,6 +47,23 @@ void append_brf1_frame(std::string& out, const FrameSet& frames, std::size_t fra
 }
 
 }  // namespace
+
+std::string brf1_header(std::uint64_t first_frame, std::uint64_t frame_count,
+                        const std::vector<std::uint32_t>& bodies) {
+  std::string out = "BRF1";
+  append_u32(out, static_cast<std::uint32_t>(first_frame));
+  append_u32(out, static_cast<std::uint32_t>(frame_count));
+  append_u32(out, static_cast<std::uint32_t>(bodies.size()));
+  for (const std::uint32_t body : bodies)
+    append_u32(out, body);
+  return out;
+}
+
+void append_brf1_frames(std::string& out, const FrameSet& frames) {
+  assert(frames.poses.size() == frames.frame_count() * frames.bodies.size());
+  for (std::size_t f = 0; f < frames.frame_count(); ++f)
+    append_brf1_frame(out, frames, f);
+}
 
 FrameSet frames_of(const engine::Result& result) {
   assert(result.poses.size() == result.frame_times_s.size() * result.animated.size());
@@ -234,7 +242,7 @@ std::string frames_document_json(const FrameSet& frames, std::uint64_t total_fra
 
 std::string frames_to_brf1(const FrameSet& frames) {
   assert(frames.poses.size() == frames.frame_count() * frames.bodies.size());
-  std::string out = brf1_header(frames);
+  std::string out = brf1_header(frames.first_frame, frames.frame_count(), frames.bodies);
   out.reserve(out.size() + frames.frame_count() * (8 + 28 * frames.bodies.size()));
   for (std::size_t f = 0; f < frames.frame_count(); ++f)
     append_brf1_frame(out, frames, f);
@@ -244,7 +252,7 @@ std::string frames_to_brf1(const FrameSet& frames) {
 // Frame by frame, so a large result never holds its whole binary form in memory.
 void write_brf1(const FrameSet& frames, std::ostream& out) {
   assert(frames.poses.size() == frames.frame_count() * frames.bodies.size());
-  std::string chunk = brf1_header(frames);
+  std::string chunk = brf1_header(frames.first_frame, frames.frame_count(), frames.bodies);
   for (std::size_t f = 0; f < frames.frame_count(); ++f) {
     append_brf1_frame(chunk, frames, f);
     out.write(chunk.data(), static_cast<std::streamsize>(chunk.size()));

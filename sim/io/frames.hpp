@@ -74,6 +74,11 @@ std::string frames_document_json(const FrameSet& frames, std::uint64_t total_fra
 // The same frames as BRF1 bytes (`Accept: application/octet-stream`). Poses are written as
 // float32, times as float64.
 std::string frames_to_brf1(const FrameSet& frames);
+// The BRF1 bytes in parts, for a writer that streams a page in blocks of frames: the header of a
+// page of `frame_count` frames from `first_frame`, then each block's frame records.
+std::string brf1_header(std::uint64_t first_frame, std::uint64_t frame_count,
+                        const std::vector<std::uint32_t>& bodies);
+void append_brf1_frames(std::string& out, const FrameSet& frames);
 void write_brf1(const FrameSet& frames, std::ostream& out);
 
 }  // namespace brisance::io

@@ -397,8 +397,8 @@ std::vector<InputError> parse_response_request(const nlohmann::json& body,
       const auto spell = [](std::string_view n) { return std::string(n); };
       if (charge) {
         unknown_members(j, base,
-                        {"charge_kg", "distance_m", "explosive", "tnt_factor", "burst",
-                         "surface_model", "angle_deg"},
+                        {"charge_kg", "distance_m", "explosive", "tnt_factor", "impulse_tnt_factor",
+                         "burst", "surface_model", "angle_deg"},
                         errors);
         BlastQuery query;
         problems = parse_blast_query(json_lookup(j), spell, query);

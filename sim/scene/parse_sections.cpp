@@ -63,16 +63,20 @@ std::optional<ChargeSpec> parse_charge(const json& value, const std::string& poi
       if (const auto found = blast::find_explosive(name)) {
         charge.explosive = std::string(found->name);
         charge.tnt_factor = found->tnt_factor;
+        charge.impulse_tnt_factor = found->impulse_factor();
       } else {
         errors.add(at, "unknown explosive " + in_quotes(name) + "; use one of " +
                            blast::known_explosive_names() +
                            ", or {\"tnt_factor\": F} for a custom TNT equivalence");
       }
     } else if (explosive->is_object()) {
-      const Fields custom(*explosive, at, errors, "a custom explosive", {"tnt_factor"});
+      const Fields custom(*explosive, at, errors, "a custom explosive",
+                          {"tnt_factor", "impulse_tnt_factor"});
       if (auto factor = custom.required_number("tnt_factor", positive("kg TNT per kg"))) {
         charge.explosive = "custom";
         charge.tnt_factor = *factor;
+        charge.impulse_tnt_factor =
+            custom.number("impulse_tnt_factor", *factor, positive("kg TNT per kg"));
       }
     } else {
       errors.add(at, "'explosive' must be an explosive's name (" + blast::known_explosive_names() +

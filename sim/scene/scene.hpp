@@ -31,10 +31,11 @@ inline constexpr std::uint8_t kShelteredBack = 1u << 5;  // "-z": behind a windo
 bool is_sheltered(std::uint8_t mask, const Vec3& normal);
 
 struct ChargeSpec {
-  Vec3 position = Vec3::Zero();   // world, m
-  double mass_kg = 1.0;           // mass of explosive, > 0
-  std::string explosive = "TNT";  // canonical name from blast::known_explosives(), or "custom"
-  double tnt_factor = 1.0;        // W = mass_kg * tnt_factor
+  Vec3 position = Vec3::Zero();     // world, m
+  double mass_kg = 1.0;             // mass of explosive, > 0
+  std::string explosive = "TNT";    // canonical name from blast::known_explosives(), or "custom"
+  double tnt_factor = 1.0;          // W = mass_kg * tnt_factor
+  double impulse_tnt_factor = 1.0;  // W for impulses (UFC 3-340-02 eq. 2-5); = tnt_factor if none
   blast::Burst burst = blast::Burst::air;
   blast::SurfaceBurstModel surface_model = blast::SurfaceBurstModel::hemispherical;
 };

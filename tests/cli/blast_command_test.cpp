@@ -38,6 +38,7 @@ TEST(BlastCommand, JsonHasTheContractFieldsPulsesAndInputs) {
       nlohmann::json::parse(run({"--charge-kg", "100", "--distance-m", "15", "--json"}));
   const std::set<std::string> expected = {"scaled_distance_m_kg13",
                                           "tnt_equivalent_kg",
+                                          "impulse_tnt_equivalent_kg",
                                           "incident_overpressure_kpa",
                                           "incident_impulse_kpa_ms",
                                           "arrival_time_ms",
@@ -50,6 +51,7 @@ TEST(BlastCommand, JsonHasTheContractFieldsPulsesAndInputs) {
                                           "in_validity_range",
                                           "incident_pulse",
                                           "reflected_pulse",
+                                          "negative_phase",
                                           "inputs"};
   std::set<std::string> keys;
   for (const auto& [key, value] : json.items())
@@ -105,18 +107,33 @@ TEST(BlastCommand, PulseCsvSamplesBothPulsesFromArrival) {
     rows.push_back(row);
   }
   ASSERT_EQ(rows.size(), 200u);
-  // Starts at the arrival with the peaks, ends at zero after the positive phase.
+  // Starts at the arrival with the peaks, ends at zero after the incident negative phase.
   EXPECT_NEAR(rows.front()[0], json["arrival_time_ms"].get<double>(), 1e-4);
   EXPECT_NEAR(rows.front()[1], json["incident_overpressure_kpa"].get<double>(), 1e-3);
   EXPECT_NEAR(rows.front()[2], json["reflected_overpressure_kpa"].get<double>(), 1e-2);
   EXPECT_NEAR(rows.back()[1], 0.0, 1e-9);
   EXPECT_NEAR(rows.back()[2], 0.0, 1e-9);
-  // The trapezoid sum of the incident column approaches the incident impulse.
-  double impulse = 0.0;
-  for (std::size_t i = 1; i < rows.size(); ++i)
-    impulse += 0.5 * (rows[i][1] + rows[i - 1][1]) * (rows[i][0] - rows[i - 1][0]);
-  EXPECT_NEAR(impulse, json["incident_impulse_kpa_ms"].get<double>(),
-              2e-3 * json["incident_impulse_kpa_ms"].get<double>());
+  const auto& negative = json["negative_phase"];
+  EXPECT_NEAR(rows.back()[0],
+              json["arrival_time_ms"].get<double>() +
+                  json["incident_pulse"]["duration_ms"].get<double>() +
+                  negative["duration_ms"].get<double>(),
+              1e-3);
+  // The trapezoid sums of the incident column's two phases approach the positive impulse and
+  // the negative phase's impulse; the reflected column carries the reflected impulse.
+  double positive = 0.0, suction = 0.0, reflected = 0.0;
+  for (std::size_t i = 1; i < rows.size(); ++i) {
+    const double dt = rows[i][0] - rows[i - 1][0];
+    const double area = 0.5 * (rows[i][1] + rows[i - 1][1]) * dt;
+    (rows[i][1] + rows[i - 1][1] >= 0.0 ? positive : suction) += area;
+    reflected += 0.5 * (rows[i][2] + rows[i - 1][2]) * dt;
+  }
+  EXPECT_NEAR(positive, json["incident_impulse_kpa_ms"].get<double>(),
+              1e-2 * json["incident_impulse_kpa_ms"].get<double>());
+  EXPECT_NEAR(-suction, negative["impulse_kpa_ms"].get<double>(),
+              1e-2 * negative["impulse_kpa_ms"].get<double>());
+  EXPECT_NEAR(reflected, json["reflected_impulse_kpa_ms"].get<double>(),
+              2e-2 * json["reflected_impulse_kpa_ms"].get<double>());
   std::remove(path.c_str());
 }
 
@@ -139,6 +156,37 @@ TEST(BlastCommand, ExplosiveSurfaceAndAngleOptions) {
   EXPECT_NEAR(grazing["reflection_coefficient"].get<double>(), 1.0, 1e-12);
   EXPECT_NEAR(grazing["reflected_overpressure_kpa"].get<double>(),
               grazing["incident_overpressure_kpa"].get<double>(), 1e-9);
+}
+
+// UFC 3-340-02 eqs. 2-4 and 2-5: C-4's pressure factor sets pressures and times, its impulse
+// factor the impulses; a custom explosive may give both.
+TEST(BlastCommand, ImpulsesUseTheExplosivesImpulseFactor) {
+  const auto c4 = nlohmann::json::parse(
+      run({"--charge-kg", "4", "--distance-m", "5", "--explosive", "c4", "--json"}));
+  const auto one = nlohmann::json::parse(
+      run({"--charge-kg", "4", "--distance-m", "5", "--tnt-factor", "1.37", "--json"}));
+  const auto two = nlohmann::json::parse(run({"--charge-kg", "4", "--distance-m", "5",
+                                              "--tnt-factor", "1.37", "--impulse-tnt-factor",
+                                              "1.19", "--json"}));
+  EXPECT_DOUBLE_EQ(c4["inputs"]["impulse_tnt_factor"].get<double>(), 1.19);
+  EXPECT_DOUBLE_EQ(c4["impulse_tnt_equivalent_kg"].get<double>(), 4.0 * 1.19);
+  EXPECT_EQ(c4["incident_overpressure_kpa"], one["incident_overpressure_kpa"]);
+  EXPECT_EQ(c4["positive_duration_ms"], one["positive_duration_ms"]);
+  EXPECT_LT(c4["incident_impulse_kpa_ms"].get<double>(),
+            0.95 * one["incident_impulse_kpa_ms"].get<double>());
+  EXPECT_EQ(c4["incident_impulse_kpa_ms"], two["incident_impulse_kpa_ms"]);
+  EXPECT_EQ(c4["reflected_impulse_kpa_ms"], two["reflected_impulse_kpa_ms"]);
+  EXPECT_NE(run({"--charge-kg", "4", "--distance-m", "5", "--explosive", "c4"})
+                .find("for impulses       Wi  4.76 kg"),
+            std::string::npos);
+  EXPECT_NE(usage_error({"--charge-kg", "1", "--distance-m", "5", "--explosive", "c4",
+                         "--impulse-tnt-factor", "1.2"})
+                .find("goes with --tnt-factor"),
+            std::string::npos);
+  EXPECT_NE(usage_error({"--charge-kg", "1", "--distance-m", "5", "--tnt-factor", "1",
+                         "--impulse-tnt-factor", "0"})
+                .find("greater than 0"),
+            std::string::npos);
 }
 
 TEST(BlastCommand, OutOfRangeIsFlaggedInJsonAndTable) {

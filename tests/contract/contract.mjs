@@ -420,6 +420,8 @@ async function probesAndService(s) {
 
   const { body: explosives, response: exResponse } = await call(s, "GET", "/v1/explosives", 200);
   expect(explosives?.explosives.some((e) => e.name === "TNT" && e.tnt_factor === 1), "/v1/explosives lists TNT with factor 1");
+  expect(explosives?.explosives.some((e) => e.name === "Composition C-4" && e.tnt_factor === 1.37 && e.impulse_tnt_factor === 1.19),
+         "/v1/explosives gives C-4 its two UFC factors");
   await call(s, "GET", "/v1/explosives", 304, { headers: { "If-None-Match": exResponse.headers.etag } });
   await call(s, "GET", "/v1/explosives", 304, { headers: { "If-None-Match": `"nope", W/${exResponse.headers.etag}` }, note: "weak tag in a list" });
   await call(s, "GET", "/v1/explosives", 304, { headers: { "If-None-Match": "*" }, note: "If-None-Match: *" });
@@ -431,12 +433,25 @@ async function probesAndService(s) {
   expect(blast?.in_validity_range === true, "/v1/blast 100 kg at 15 m is in the validity range");
   const { body: c4 } = await call(s, "GET", "/v1/blast?charge_kg=10&distance_m=5&explosive=c4&burst=surface&angle_deg=30", 200);
   expect(c4 && Math.abs(c4.tnt_equivalent_kg - 13.7) < 1e-9, `/v1/blast C4 TNT equivalent ${c4?.tnt_equivalent_kg}`);
+  expect(c4 && Math.abs(c4.impulse_tnt_equivalent_kg - 11.9) < 1e-9 && c4.inputs.impulse_tnt_factor === 1.19,
+         `/v1/blast C4 impulse equivalent ${c4?.impulse_tnt_equivalent_kg}`);
+  expect(blast && blast.negative_phase.underpressure_kpa > 0 && blast.negative_phase.underpressure_kpa < blast.incident_overpressure_kpa &&
+         Math.abs(blast.negative_phase.duration_ms - 16 / 9 * blast.negative_phase.impulse_kpa_ms / blast.negative_phase.underpressure_kpa) < 1e-9,
+         `/v1/blast negative phase ${JSON.stringify(blast?.negative_phase)}`);
+  const { body: custom } = await call(s, "GET", "/v1/blast?charge_kg=10&distance_m=5&tnt_factor=1.37&impulse_tnt_factor=1.19", 200);
+  const { body: customOne } = await call(s, "GET", "/v1/blast?charge_kg=10&distance_m=5&tnt_factor=1.37", 200);
+  expect(custom && customOne && Math.abs(custom.impulse_tnt_equivalent_kg - 11.9) < 1e-9 &&
+         custom.incident_overpressure_kpa === customOne.incident_overpressure_kpa &&
+         custom.incident_impulse_kpa_ms < customOne.incident_impulse_kpa_ms,
+         `/v1/blast custom impulse factor ${custom?.impulse_tnt_equivalent_kg}: same pressure, less impulse`);
   await call(s, "GET", "/v1/blast?charge_kg=1&distance_m=1000", 200, { note: "outside the fits" });
   for (const [query, parameter] of [["distance_m=5", "charge_kg"], ["charge_kg=-1&distance_m=5", "charge_kg"],
                                     ["charge_kg=1", "distance_m"], ["charge_kg=1&distance_m=abc", "distance_m"],
                                     ["charge_kg=1&distance_m=5&explosive=dynamite", "explosive"],
                                     ["charge_kg=1&distance_m=5&burst=underwater", "burst"],
-                                    ["charge_kg=1&distance_m=5&angle_deg=91", "angle_deg"]]) {
+                                    ["charge_kg=1&distance_m=5&angle_deg=91", "angle_deg"],
+                                    ["charge_kg=1&distance_m=5&explosive=c4&impulse_tnt_factor=1.2", "impulse_tnt_factor"],
+                                    ["charge_kg=1&distance_m=5&tnt_factor=1&impulse_tnt_factor=0", "impulse_tnt_factor"]]) {
     const { body } = await call(s, "GET", `/v1/blast?${query}`, 400);
     expect(body?.errors?.[0]?.parameter === parameter, `/v1/blast?${query}: errors[0].parameter ${body?.errors?.[0]?.parameter}, expected ${parameter}`);
   }

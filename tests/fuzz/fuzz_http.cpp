@@ -67,16 +67,30 @@ void check(bool condition) {
   if (!condition) std::abort();
 }
 
+// The body as the session sends it: a streamed one (frames) made piece by piece, as the
+// session's write loop does.
+std::string body_of(const HttpResponse& response) {
+  if (!response.stream) return response.body;
+  std::string body, piece;
+  for (bool more = true; more;) {
+    piece.clear();
+    more = response.stream(piece);
+    body += piece;
+  }
+  return body;
+}
+
 void check_response(const HttpResponse& response) {
   check(response.status >= 200 && response.status <= 599);
   check(response.status != 500);
+  const std::string body = body_of(response);
   if (response.status >= 400) {
     check(response.content_type == "application/problem+json");
-    const nlohmann::json problem = nlohmann::json::parse(response.body);
+    const nlohmann::json problem = nlohmann::json::parse(body);
     check(problem.at("status") == response.status);
     check(problem.at("type").is_string() && problem.at("title").is_string());
-  } else if (response.content_type == "application/json" && !response.body.empty()) {
-    (void)nlohmann::json::parse(response.body);
+  } else if (response.content_type == "application/json" && !body.empty()) {
+    (void)nlohmann::json::parse(body);
   }
 }
 

@@ -555,8 +555,9 @@ TEST(Api, ConnectionsAboveTheCapGet503AndClose) {
 }
 
 // A store that cannot take a result (here: a database capped below the result's size, which
-// fails as a full disk does) is not the job's fault: the job goes back to the queue, never ends
-// failed, and no SQL text reaches the client.
+// fails as a full disk does; 1 001 frames of 100 blocks, so that even compressed it does not fit)
+// is not the job's fault: the job goes back to the queue, never ends failed, and no SQL text
+// reaches the client.
 TEST(Api, AResultTheStoreCannotTakeSendsTheJobBackToTheQueue) {
   if (test_store_is_postgres()) {
     GTEST_SKIP() << "the size cap is SQLite's (max_page_count); PostgreSQL's disk is its server's";
@@ -572,7 +573,7 @@ TEST(Api, AResultTheStoreCannotTakeSendsTheJobBackToTheQueue) {
     "charges": [{"position": [0, 0.5, 0], "mass": 5}],
     "generators": [{"type": "blocks", "name": "b", "counts": [10, 1, 10], "size": [0.2, 0.2, 0.2],
                     "spacing": [0.05, 0, 0.05], "density": 300, "position": [0, 0, 3]}],
-    "simulation": {"duration": 1, "frame_rate": 100}})");
+    "simulation": {"duration": 1, "frame_rate": 1000}})");
   const std::string id = submit(server, scene);
   bool ran = false, requeued = false;
   const auto deadline = Clock::now() + std::chrono::seconds(60);

@@ -11,6 +11,7 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include "server/compact_result.hpp"
 #include "server/forwarding_storage.hpp"
 #include "server/pg_storage.hpp"
 #include "server/sqlite_storage.hpp"
@@ -168,7 +169,45 @@ TEST_P(BlobStoreTest, ResultsRoundTripByteIdenticalWithAndWithoutBlobs) {
   expect_same(in_database->result_frames("db", 0, INT64_MAX), result.frames);
   EXPECT_TRUE(with_blobs->result_frames("blob", 7, 9).empty());
   EXPECT_EQ(with_blobs->result_summary("blob"), "{\"x\":1}");
-  EXPECT_EQ(with_blobs->get_job("blob")->stats_json, "{\"steps\":3}");
+  // The stats gain the encoded size; the same result is the same bytes in a row or a blob.
+  const std::string encoded = in_database->result_encoded("db").value_or("");
+  ASSERT_TRUE(server::is_compact_result(encoded));
+  EXPECT_EQ(server::BlobStore({blobs_dir()}).get(digest), encoded);
+  const std::string stats = "{\"steps\":3,\"stored_bytes\":" + std::to_string(encoded.size()) + "}";
+  EXPECT_EQ(nlohmann::json::parse(with_blobs->get_job("blob")->stats_json),
+            nlohmann::json::parse(stats));
+  EXPECT_EQ(nlohmann::json::parse(in_database->get_job("db")->stats_json),
+            nlohmann::json::parse(stats));
+  // Compact: one job_results row, no job_bodies or job_frames rows.
+  EXPECT_TRUE(open_plain()->result_bodies("db").empty());
+  EXPECT_TRUE(open_plain()->result_frames("db", 0, INT64_MAX).empty());
+}
+
+// Results stored before the compact encoding (job_bodies and job_frames rows, and blobs in the
+// older uncompressed layout) still read, through every path, page by page too.
+TEST_P(BlobStoreTest, OlderUncompressedResultsStillRead) {
+  const server::StoredResult result = sample_result();
+  run(*open_plain(), "rows", result);  // the store alone writes rows, as before 007
+  server::StoredResult old_blob;
+  old_blob.summary_json = result.summary_json;
+  old_blob.stats_json = result.stats_json;
+  old_blob.blob_digest =
+      blob_store()->put(server::encode_result_blob(result.bodies, result.frames));
+  run(*open_plain(), "blob", old_blob);
+
+  auto storage = open(blob_store());
+  for (const std::string id : {"rows", "blob"}) {
+    EXPECT_FALSE(storage->result_encoded(id).has_value()) << id;
+    expect_same(storage->result_bodies(id), result.bodies);
+    expect_same(storage->result_frames(id, 0, INT64_MAX), result.frames);
+    expect_same(
+        storage->result_frames(id, 1, 4),
+        std::vector<server::StoredFrame>(result.frames.begin() + 1, result.frames.begin() + 4));
+    const server::Storage::FrameReader reader = storage->frame_reader(id);
+    expect_same(reader(2, 5),
+                std::vector<server::StoredFrame>(result.frames.begin() + 2, result.frames.end()));
+    EXPECT_EQ(storage->get_job(id)->stats_json, "{\"steps\":3}");
+  }
 }
 
 TEST_P(BlobStoreTest, TheBlobIsInPlaceBeforeTheRowSaysSucceeded) {

@@ -13,7 +13,11 @@ using nlohmann::json;
 TEST(CalculatorApi, BlastCalculatorAndExplosivesMatchTheCli) {
   TestServer server(with_workers(0));
   const json blast = server.get_json("/v1/blast?charge_kg=100&distance_m=15");
-  EXPECT_EQ(blast.size(), 15u);  // DESIGN.md's twelve fields, the two pulses and the inputs
+  // DESIGN.md's twelve fields, the impulse equivalence, the two pulses, the negative phase and
+  // the inputs.
+  EXPECT_EQ(blast.size(), 17u);
+  EXPECT_DOUBLE_EQ(blast.at("impulse_tnt_equivalent_kg").get<double>(), 100.0);
+  EXPECT_GT(blast.at("negative_phase").at("underpressure_kpa").get<double>(), 0.0);
   EXPECT_EQ(blast.at("inputs").at("explosive"), "TNT");
   EXPECT_EQ(blast.at("inputs").at("distance_m"), 15.0);
   EXPECT_NEAR(blast.at("scaled_distance_m_kg13").get<double>(), 15.0 / std::cbrt(100.0), 1e-12);
@@ -22,6 +26,14 @@ TEST(CalculatorApi, BlastCalculatorAndExplosivesMatchTheCli) {
   EXPECT_GT(comp_b.at("tnt_equivalent_kg").get<double>(), 100.0);
   const json explosives = server.get_json("/v1/explosives");
   EXPECT_EQ(explosives.at("explosives")[0].at("name"), "TNT");
+  for (const json& e : explosives.at("explosives")) {
+    if (e.at("name") == "H-6") {
+      EXPECT_EQ(e.at("tnt_factor").get<double>(), 1.38);
+      EXPECT_EQ(e.at("impulse_tnt_factor").get<double>(), 1.15);
+    } else if (e.at("name") == "TNT") {
+      EXPECT_EQ(e.at("impulse_tnt_factor").get<double>(), 1.0);
+    }
+  }
 }
 
 // Every bad parameter of one request is named at once.

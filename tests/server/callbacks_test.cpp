@@ -1,18 +1,24 @@
 // Callbacks end to end: a job names a URL, a local receiver answers it, and the deliveries, their
 // signature, their retries and their record on the job are checked. A real server, a real HTTP
 // receiver on the loopback, a real store.
+#include <cstdio>
+#include <cstring>
 #include <deque>
+#include <fstream>
 #include <mutex>
 #include <thread>
 
 #include <boost/asio/ip/tcp.hpp>
+#include <boost/asio/ssl.hpp>
 #include <boost/beast/core.hpp>
 #include <boost/beast/http.hpp>
+#include <boost/beast/ssl.hpp>
 #include <gtest/gtest.h>
 #include <openssl/evp.h>
 #include <openssl/hmac.h>
 
 #include "tests/server/test_server.hpp"
+#include "tests/server/test_tls.hpp"
 
 namespace brisance::testing {
 namespace {
@@ -22,8 +28,10 @@ namespace beast = boost::beast;
 namespace http = boost::beast::http;
 using tcp = boost::asio::ip::tcp;
 
+namespace ssl = boost::asio::ssl;
+
 // An HTTP receiver on 127.0.0.1 that answers each request with the next of `statuses` (then
-// 200) and keeps what it got.
+// 200) and keeps what it got; over TLS with the test CA's localhost certificate when `tls`.
 class Receiver {
  public:
   struct Request {
@@ -34,8 +42,14 @@ class Receiver {
     std::string delivery;
   };
 
-  explicit Receiver(std::deque<int> statuses)
-      : statuses_(std::move(statuses)), acceptor_(io_, tcp::endpoint(tcp::v4(), 0)) {
+  explicit Receiver(std::deque<int> statuses, bool tls = false)
+      : statuses_(std::move(statuses)), tls_(tls), acceptor_(io_, tcp::endpoint(tcp::v4(), 0)) {
+    if (tls_) {
+      tls_context_.use_certificate_chain(
+          boost::asio::buffer(kLocalhostCertificate, std::strlen(kLocalhostCertificate)));
+      tls_context_.use_private_key(boost::asio::buffer(kLocalhostKey, std::strlen(kLocalhostKey)),
+                                   ssl::context::pem);
+    }
     thread_ = std::thread([this] { serve(); });
   }
   ~Receiver() {
@@ -59,10 +73,30 @@ class Receiver {
       beast::error_code ec;
       acceptor_.accept(socket, ec);
       if (ec || stopping_) continue;
+      if (!tls_) {
+        answer(socket);
+        continue;
+      }
+      ssl::stream<tcp::socket> stream(std::move(socket), tls_context_);
+      stream.handshake(ssl::stream_base::server, ec);
+      if (ec) {
+        std::lock_guard lock(mutex_);
+        ++refused_handshakes_;
+        continue;
+      }
+      answer(stream);
+      stream.shutdown(ec);
+    }
+  }
+
+  template <class Stream>
+  void answer(Stream& socket) {
+    {
+      beast::error_code ec;
       beast::flat_buffer buffer;
       http::request<http::string_body> request;
       http::read(socket, buffer, request, ec);
-      if (ec) continue;
+      if (ec) return;
       int status = 200;
       {
         std::lock_guard lock(mutex_);
@@ -82,7 +116,17 @@ class Receiver {
     }
   }
 
+ public:
+  int refused_handshakes() {
+    std::lock_guard lock(mutex_);
+    return refused_handshakes_;
+  }
+
+ private:
   std::deque<int> statuses_;
+  bool tls_ = false;
+  ssl::context tls_context_{ssl::context::tls_server};
+  int refused_handshakes_ = 0;
   boost::asio::io_context io_;
   tcp::acceptor acceptor_;
   std::mutex mutex_;
@@ -207,13 +251,62 @@ TEST(Callbacks, TheServersDefaultURLAndBadURLs) {
   ASSERT_EQ(receiver.requests().size(), 1u);
   EXPECT_EQ(receiver.requests()[0].target, "/all");
 
-  for (const std::string bad : {"https://example.com/hook", "ftp://example.com/", "not a url",
-                                "http://user:pw@example.com/"}) {
+  for (const std::string bad : {"ftp://example.com/", "not a url", "http://user:pw@example.com/"}) {
     const ClientResponse refused = server.request(
         "POST", "/v1/jobs", json{{"scene", quick_scene()}, {"callback", bad}}.dump());
     EXPECT_EQ(refused.status, 422) << bad;
     EXPECT_NE(refused.body.find("/callback"), std::string::npos) << refused.body;
   }
+}
+
+// https: the receiver's certificate must chain to a trusted CA and name the host. Trusting the
+// test CA (--callback-ca) the delivery goes through, signed as over http; with the system's CAs
+// alone the handshake is refused, the attempt fails with the reason, and nothing is delivered.
+TEST(Callbacks, HttpsDeliversToATrustedCertificateAndRefusesAnUntrustedOne) {
+  const std::string ca_file = ::testing::TempDir() + "brisance-test-ca.pem";
+  std::ofstream(ca_file) << kTestCa;
+  {
+    Receiver receiver({}, true);
+    TestServerOptions options = with_callbacks(2);
+    options.callbacks->ca_file = ca_file;
+    TestServer server(options);
+    const std::string url = "https://127.0.0.1:" + std::to_string(receiver.port()) + "/tls";
+    const std::string id = submit_with_callback(server, url);
+    const json job = wait_for_callback(server, id, "delivered");
+    ASSERT_EQ(job.at("callback").at("state"), "delivered") << job.dump();
+    ASSERT_EQ(receiver.requests().size(), 1u);
+    EXPECT_EQ(receiver.requests()[0].target, "/tls");
+    EXPECT_EQ(receiver.requests()[0].event, "job.finished");
+    EXPECT_EQ(json::parse(receiver.requests()[0].body).at("id"), id);
+    EXPECT_EQ(receiver.refused_handshakes(), 0);
+  }
+  {
+    Receiver receiver({}, true);
+    TestServer server(with_callbacks(2));  // the system's CAs, which do not include the test CA
+    const std::string url = "https://127.0.0.1:" + std::to_string(receiver.port()) + "/tls";
+    const std::string id = submit_with_callback(server, url);
+    const json job = wait_for_callback(server, id, "failed");
+    ASSERT_EQ(job.at("callback").at("state"), "failed") << job.dump();
+    EXPECT_TRUE(receiver.requests().empty());
+    EXPECT_EQ(receiver.refused_handshakes(), 2);
+    const json& deliveries = job.at("callback").at("deliveries");
+    ASSERT_EQ(deliveries.size(), 2u);
+    const std::string error = deliveries[0].at("error");
+    EXPECT_NE(error.find("certificate verify failed"), std::string::npos) << error;
+  }
+  {
+    // Trusted CA, wrong name: the certificate is for localhost and 127.0.0.1, not 127.0.0.2.
+    Receiver receiver({}, true);
+    TestServerOptions options = with_callbacks(1);
+    options.callbacks->ca_file = ca_file;
+    TestServer server(options);
+    const std::string url = "https://127.0.0.2:" + std::to_string(receiver.port()) + "/tls";
+    const std::string id = submit_with_callback(server, url);
+    const json job = wait_for_callback(server, id, "failed");
+    ASSERT_EQ(job.at("callback").at("state"), "failed") << job.dump();
+    EXPECT_TRUE(receiver.requests().empty());
+  }
+  std::remove(ca_file.c_str());
 }
 
 }  // namespace

@@ -54,6 +54,11 @@ struct TestServerOptions {
   // Results in a blob store (serve --blobs) in this folder; empty: in the database, unless
   // BRISANCE_TEST_BLOBS=1 (CTest runs the API suite once so), which puts them in the test's own.
   std::filesystem::path blobs_dir;
+  int io_threads = 4;
+  std::size_t offload_body_bytes = 64 * 1024;  // HttpOptions::offload_body_bytes
+  int request_threads = 2;
+  std::size_t request_queue = 16;
+  std::int64_t max_glb_frame_samples = 2000000;
 };
 
 inline TestServerOptions with_workers(int workers) {
@@ -90,6 +95,7 @@ class TestServer {
     service_options.max_queue = options.max_queue;
     service_options.default_callback_url = options.default_callback_url;
     service_options.max_asset_bytes = options.max_asset_bytes;
+    service_options.max_glb_frame_samples = options.max_glb_frame_samples;
     service_ = std::make_unique<server::JobService>(*storage_, service_options);
     if (options.callbacks)
       callbacks_ = std::make_unique<server::CallbackSender>(*service_, *options.callbacks);
@@ -116,6 +122,10 @@ class TestServer {
     http.port = 0;
     http.body_limit_bytes = options.body_limit_bytes;
     http.max_connections = options.max_connections;
+    http.io_threads = options.io_threads;
+    http.offload_body_bytes = options.offload_body_bytes;
+    http.request_threads = options.request_threads;
+    http.request_queue = options.request_queue;
     http_ = std::make_unique<server::HttpServer>(*api_, *service_, metrics_, http);
     http_->listen();
     pool_->start();

@@ -426,6 +426,10 @@ try {
       // SVG y grows downwards: the pulse starts at its peak (smallest y) and decays to zero.
       check(ys[0] === Math.min(...ys) && ys.at(-1) > ys[0], `${cls} pulse does not decay from its peak`);
     }
+    // The incident wave's negative phase: its curve dips below the zero line after the pulse.
+    const zeroY = Number(await pulse.locator("line.grid.zero").first().getAttribute("y1"));
+    const incidentYs = [...((await pulse.locator("path.series.incident").getAttribute("d")) ?? "").matchAll(/[ML][\d.]+,([\d.]+)/g)].map((m) => Number(m[1]));
+    check(Math.max(...incidentYs) > zeroY + 1, `the incident pulse has no negative phase (lowest y ${Math.max(...incidentYs)}, zero at ${zeroY})`);
     const reflectedTop = [...((await pulse.locator("path.series.reflected").getAttribute("d")) ?? "").matchAll(/M[\d.]+,([\d.]+)/g)][0]?.[1];
     const incidentTop = [...((await pulse.locator("path.series.incident").getAttribute("d")) ?? "").matchAll(/M[\d.]+,([\d.]+)/g)][0]?.[1];
     check(Number(reflectedTop) < Number(incidentTop), "the reflected peak is not above the incident one");

@@ -234,7 +234,9 @@ export interface paths {
          *     `application/octet-stream` anywhere in it selects the binary form; otherwise an `Accept`
          *     naming neither JSON nor `*\/*` is a `406`; otherwise (or without `Accept`) JSON. Poses are
          *     stored as float32. Bodies that do not move (not `animated`) are reported at their initial
-         *     pose in every frame.
+         *     pose in every frame. The body is sent chunked (`Transfer-Encoding: chunked`), made a block
+         *     of frames at a time, so any page size is served in bounded memory; a page is at most the
+         *     run's frames x bodies, which `max_frame_samples` (5 000 000) bounds.
          */
         get: operations["getJobFrames"];
         put?: never;
@@ -316,7 +318,9 @@ export interface paths {
         /**
          * Animated glTF
          * @description The result as one binary glTF 2.0 file: a mesh per body and an animation of the moving
-         *     ones (poses at the stored float32 precision).
+         *     ones (poses at the stored float32 precision). It is built whole in memory, so a result of
+         *     more than 2 000 000 frames x animated bodies (the server's setting) is a `422
+         *     result-too-large`: read its frames and meshes instead.
          */
         get: operations["getJobGlb"];
         put?: never;
@@ -503,7 +507,7 @@ export type webhooks = Record<string, never>;
 export interface components {
     schemas: {
         /** @description The stable URN naming a kind of problem. */
-        ProblemType: "urn:brisance:problem:bad-request" | "urn:brisance:problem:malformed-json" | "urn:brisance:problem:invalid-parameter" | "urn:brisance:problem:unauthorized" | "urn:brisance:problem:forbidden" | "urn:brisance:problem:not-found" | "urn:brisance:problem:method-not-allowed" | "urn:brisance:problem:not-acceptable" | "urn:brisance:problem:job-finished" | "urn:brisance:problem:result-not-ready" | "urn:brisance:problem:payload-too-large" | "urn:brisance:problem:unsupported-media-type" | "urn:brisance:problem:invalid-scene" | "urn:brisance:problem:invalid-input" | "urn:brisance:problem:idempotency-key-reused" | "urn:brisance:problem:invalid-asset" | "urn:brisance:problem:insufficient-storage" | "urn:brisance:problem:overloaded" | "urn:brisance:problem:queue-full" | "urn:brisance:problem:internal-error" | "urn:brisance:problem:result-unavailable" | "urn:brisance:problem:storage-unavailable";
+        ProblemType: "urn:brisance:problem:bad-request" | "urn:brisance:problem:malformed-json" | "urn:brisance:problem:invalid-parameter" | "urn:brisance:problem:unauthorized" | "urn:brisance:problem:forbidden" | "urn:brisance:problem:not-found" | "urn:brisance:problem:method-not-allowed" | "urn:brisance:problem:not-acceptable" | "urn:brisance:problem:job-finished" | "urn:brisance:problem:result-not-ready" | "urn:brisance:problem:payload-too-large" | "urn:brisance:problem:unsupported-media-type" | "urn:brisance:problem:invalid-scene" | "urn:brisance:problem:invalid-input" | "urn:brisance:problem:idempotency-key-reused" | "urn:brisance:problem:invalid-asset" | "urn:brisance:problem:insufficient-storage" | "urn:brisance:problem:overloaded" | "urn:brisance:problem:result-too-large" | "urn:brisance:problem:queue-full" | "urn:brisance:problem:internal-error" | "urn:brisance:problem:result-unavailable" | "urn:brisance:problem:storage-unavailable";
         /** @description An RFC 9457 problem; `type` says which (see `ProblemType`). */
         Problem: {
             type: components["schemas"]["ProblemType"];
@@ -695,6 +699,13 @@ export interface components {
             status?: 503;
             errors?: never;
         };
+        OverloadedProblem: components["schemas"]["Problem"] & {
+            /** @constant */
+            type?: "urn:brisance:problem:overloaded";
+            /** @constant */
+            status?: 503;
+            errors?: never;
+        };
         /**
          * @example {
          *       "status": "ok"
@@ -777,11 +788,11 @@ export interface components {
             name?: components["schemas"]["JobName"];
             labels?: components["schemas"]["JobLabels"];
             /**
-             * @description An `http://` URL told when the job ends: the job's JSON is POSTed there, signed with
-             *     the server's `--callback-secret` (`Brisance-Signature: t=SECONDS,v1=HEX`, HMAC-SHA256
-             *     of `SECONDS.` and the body) and retried with a doubling backoff until a `2xx`
-             *     (docs/service.md "Callbacks"). Default: the server's `--callback-url`, if any.
-             *     `https://` is not supported yet (a `422`).
+             * @description An `http://` or `https://` URL told when the job ends: the job's JSON is POSTed there,
+             *     signed with the server's `--callback-secret` (`Brisance-Signature: t=SECONDS,v1=HEX`,
+             *     HMAC-SHA256 of `SECONDS.` and the body) and retried with a doubling backoff until a
+             *     `2xx` (docs/service.md "Callbacks"). Default: the server's `--callback-url`, if any.
+             *     An https receiver's certificate must chain to the server's trusted CAs.
              * @example http://render-farm:9000/brisance/done
              */
             callback?: string;
@@ -984,6 +995,11 @@ export interface components {
             collision_pairs_skipped: number;
             /** @description Contact points between bodies solved, summed over steps. */
             contact_points: number;
+            /**
+             * @description The service only (not `brisance run`): bytes the stored result takes, meshes once and
+             *     frames delta-coded and zstd-compressed (lossless).
+             */
+            stored_bytes?: number;
         };
         /** @description The body's material from the materials table (docs/scene-format.md; names such as `brick`, `annealed_glass`), or empty when the scene gave a density or mass instead. A fragment has its pane's material. `result.glb` draws bodies by it (docs/pipelines.md). Absent from results stored before it was recorded. */
         BodyMaterial: string;
@@ -1261,11 +1277,19 @@ export interface components {
          *         "impulse_kpa_ms": 633.2,
          *         "decay": 1.83
          *       },
+         *       "negative_phase": {
+         *         "underpressure_kpa": 19.66,
+         *         "impulse_kpa_ms": 523.7,
+         *         "duration_ms": 47.36,
+         *         "chart_duration_ms": 51.06,
+         *         "in_validity_range": true
+         *       },
          *       "inputs": {
          *         "charge_kg": 100,
          *         "distance_m": 15,
          *         "explosive": "TNT",
          *         "tnt_factor": 1,
+         *         "impulse_tnt_factor": 1,
          *         "burst": "air",
          *         "surface_model": "hemispherical",
          *         "angle_deg": 0
@@ -1275,8 +1299,13 @@ export interface components {
         Blast: {
             /** @description Z = R / W^(1/3), m/kg^(1/3). */
             scaled_distance_m_kg13: number;
-            /** @description W, the charge mass times the explosive's TNT factor. */
+            /** @description W, the charge mass times the explosive's TNT factor (pressures and times). */
             tnt_equivalent_kg: number;
+            /**
+             * @description The W impulses are computed with: the charge mass times the explosive's impulse
+             *     factor (UFC 3-340-02 eq. 2-5), equal to tnt_equivalent_kg for most explosives.
+             */
+            impulse_tnt_equivalent_kg?: number;
             /** @description Side-on peak overpressure P_so. */
             incident_overpressure_kpa: number;
             /** @description Side-on positive impulse i_s. */
@@ -1296,6 +1325,24 @@ export interface components {
             in_validity_range: boolean;
             incident_pulse: components["schemas"]["BlastPulse"];
             reflected_pulse: components["schemas"]["BlastPulse"];
+            /**
+             * @description The incident suction after the positive phase (docs/blast-model.md): UFC 3-340-02's
+             *     negative-phase curves (as fitted by Rigby et al. 2014) for the peak underpressure and
+             *     impulse, with the cubic p(t) = -P (27/4)(t/T)(1 - t/T)^2 of NAVFAC DM-2.08 over
+             *     T = duration_ms = 16/9 impulse / underpressure. The reflected negative phase is not
+             *     modelled.
+             */
+            negative_phase: {
+                /** @description Peak suction below ambient (positive). */
+                underpressure_kpa: number;
+                /** @description Area of the suction (positive). */
+                impulse_kpa_ms: number;
+                /** @description Duration of the cubic, after the positive phase ends. */
+                duration_ms: number;
+                /** @description The charts' own duration curve, for comparison. */
+                chart_duration_ms: number;
+                in_validity_range: boolean;
+            };
             /** @description The query as the calculator understood it (canonical explosive name, defaults filled in). */
             inputs: {
                 charge_kg: number;
@@ -1303,6 +1350,7 @@ export interface components {
                 /** @description The canonical name, or `custom` for a `tnt_factor`. */
                 explosive: string;
                 tnt_factor: number;
+                impulse_tnt_factor: number;
                 /** @enum {string} */
                 burst: "air" | "surface";
                 /** @enum {string} */
@@ -1414,6 +1462,7 @@ export interface components {
                 distance_m: number;
                 explosive?: string;
                 tnt_factor?: number;
+                impulse_tnt_factor?: number;
                 /** @enum {string} */
                 burst?: "air" | "surface";
                 /** @enum {string} */
@@ -1556,8 +1605,13 @@ export interface components {
         };
         Explosive: {
             name: string;
-            /** @description kg of TNT per kg of this explosive. */
+            /** @description kg of TNT per kg of this explosive (pressures and times). */
             tnt_factor: number;
+            /**
+             * @description kg of TNT per kg for impulses: UFC 3-340-02 table 2-1's impulse column where it is
+             *     given (C-4, H-6, Tritonal), otherwise tnt_factor.
+             */
+            impulse_tnt_factor: number;
             /**
              * @description Equivalence by heat of detonation or by peak overpressure.
              * @enum {string}
@@ -1571,6 +1625,7 @@ export interface components {
          *         {
          *           "name": "TNT",
          *           "tnt_factor": 1,
+         *           "impulse_tnt_factor": 1,
          *           "basis": "energy",
          *           "source": "thesis table 2.1 (Smith & Hetherington 1994)"
          *         }
@@ -1588,7 +1643,7 @@ export interface components {
          *     (within 1e-3, then normalised); no charge is inside an object; with a ground, no charge
          *     and no object vertex is more than 1 mm below it; a brick wall's `mortar_gap` is shorter
          *     than its bricks; the objects make at most 2 000 000 load panels; frames x bodies stays
-         *     at most 5e7.
+         *     at most 5e6.
          * @example {
          *       "charges": [
          *         {
@@ -1711,11 +1766,14 @@ export interface components {
             /**
              * @description A known explosive's name (`GET /v1/explosives`; case, spaces, `-`, `_` and `/` are
              *     ignored, and aliases such as `C4`, `CompB`, `Amatol`, `Pentolite`, `Cyclonite`, `NG`
-             *     work), or `{"tnt_factor": F}` for a custom TNT equivalence. Default `TNT`.
+             *     work), or `{"tnt_factor": F}` for a custom TNT equivalence (with an optional
+             *     `impulse_tnt_factor` for impulses). Default `TNT`.
              */
             explosive?: string | {
                 /** @description kg of TNT per kg. */
                 tnt_factor: number;
+                /** @description kg of TNT per kg for impulses (UFC 3-340-02 eq. 2-5); default tnt_factor. */
+                impulse_tnt_factor?: number;
             };
             /**
              * @description Free-air spherical (`air`) or hemispherical surface (`surface`) burst.
@@ -2829,7 +2887,21 @@ export interface operations {
                 };
             };
             500: components["responses"]["InternalError"];
-            503: components["responses"]["StorageUnavailable"];
+            /**
+             * @description The job store could not complete the request, or the server is already parsing its
+             *     most large request bodies (`overloaded`: bodies of 64 KiB and more are validated on a
+             *     bounded pool off the I/O threads); retry after `Retry-After`.
+             */
+            503: {
+                headers: {
+                    "X-Request-Id": components["headers"]["X-Request-Id"];
+                    "Retry-After": components["headers"]["Retry-After"];
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["StorageUnavailableProblem"] | components["schemas"]["OverloadedProblem"];
+                };
+            };
         };
     };
     getJob: {
@@ -3230,6 +3302,16 @@ export interface operations {
             401: components["responses"]["Unauthorized"];
             404: components["responses"]["JobNotFound"];
             409: components["responses"]["ResultNotReady"];
+            /** @description `result-too-large`: too many frames x animated bodies for a glb. */
+            422: {
+                headers: {
+                    "X-Request-Id": components["headers"]["X-Request-Id"];
+                    [name: string]: unknown;
+                };
+                content: {
+                    "application/problem+json": components["schemas"]["Problem"];
+                };
+            };
             500: components["responses"]["InternalError"];
             503: components["responses"]["StorageUnavailable"];
         };
@@ -3446,6 +3528,12 @@ export interface operations {
                  * @example 1.37
                  */
                 tnt_factor?: number;
+                /**
+                 * @description With `tnt_factor`: a separate TNT equivalence for impulses (UFC 3-340-02 eq. 2-5).
+                 *     Default `tnt_factor`. A named explosive brings its own (`GET /v1/explosives`).
+                 * @example 1.19
+                 */
+                impulse_tnt_factor?: number;
                 /** @description Free-air (`air`) or surface (`surface`) burst. */
                 burst?: "air" | "surface";
                 /**

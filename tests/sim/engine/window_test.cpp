@@ -87,6 +87,21 @@ TEST(PaneCoupling, GrowthLengthFallsAsPressureRises) {
   EXPECT_FALSE(fracture::pane_fracture(input).breaks);
 }
 
+// A sliver of a pane: half its shorter side is below the finest cells' minimum growth length.
+// The growth length is its half width (std::clamp with min above max was undefined behaviour).
+TEST(PaneCoupling, ASliverGrowsAtItsHalfWidth) {
+  fracture::PaneFractureInput input;
+  input.width_m = 100.0;
+  input.height_m = 0.001;
+  input.thickness_m = 0.0005;
+  input.pressure_pa = 1e8;  // about 300 MPa of stress
+  input.min_growth_length_m = 0.05;
+  input.max_growth_length_m = 0.0005;
+  const fracture::PaneFracture f = fracture::pane_fracture(input);
+  ASSERT_TRUE(f.breaks);
+  EXPECT_EQ(f.growth_length_m, 0.0005);
+}
+
 TEST(PaneCoupling, EmpiricalFormulasAsPrinted) {
   // Eq. 2.45 at 0 Pa: one square inch times e^(2.4 - sqrt(12.5)).
   EXPECT_NEAR(fracture::empirical_fragment_area_m2(0.0),
@@ -297,16 +312,17 @@ TEST(WindowScenes, ShelteredPaneFliesWithTheMomentumTheWaveGives) {
   const double speed = sheltered.fracture[0].launch_speed_m_s.mean;
   EXPECT_GT(speed, 0.6 * bound);
   EXPECT_LT(speed, 1.3 * bound);
-  // Held fragments keep the load they took before breaking free: nearly all leave the frame —
-  // above 90 % of the static model's 400-odd fragments; of the dynamic model's 43, ten times
-  // larger, 36 (84 %): the frame holds a larger share of the pane along each large edge piece.
+  // Held fragments keep the load they took before breaking free: most leave the frame — of the
+  // dynamic model's 43, 36 (84 %); of the static model's 579, 488 (84 %). (The static model's
+  // pattern had 400-odd fragments and over 90 % released while the crack tree lost tips to a
+  // wrong kill; the complete tree has more small pieces along the frame, which holds them.)
   EXPECT_GT(static_cast<double>(sheltered.fracture[0].released),
             0.8 * static_cast<double>(sheltered.fracture[0].fragment_count));
   scene::Scene by_static = s;
   by_static.objects[0].fracture->breakage = scene::FractureSpec::Breakage::static_plate;
   const Result static_sheltered = simulate(by_static).result;
   EXPECT_GT(static_cast<double>(static_sheltered.fracture[0].released),
-            0.9 * static_cast<double>(static_sheltered.fracture[0].fragment_count));
+            0.8 * static_cast<double>(static_sheltered.fracture[0].fragment_count));
   // In the open, the wave wraps around onto the pane's back and takes part of the push away.
   s.objects[0].sheltered = 0;
   const double open = simulate(s).result.fracture[0].launch_speed_m_s.mean;

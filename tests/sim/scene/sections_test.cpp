@@ -78,6 +78,15 @@ TEST(SceneCharges, CustomTntFactor) {
   const Scene scene = parse_ok(doc);
   EXPECT_EQ(scene.charges[0].explosive, "custom");
   EXPECT_EQ(scene.charges[0].tnt_factor, 1.3);
+  EXPECT_EQ(scene.charges[0].impulse_tnt_factor, 1.3);  // one factor unless two are given
+
+  doc["charges"][0]["explosive"] = {{"tnt_factor", 1.37}, {"impulse_tnt_factor", 1.19}};
+  EXPECT_EQ(parse_ok(doc).charges[0].impulse_tnt_factor, 1.19);
+  doc["charges"][0]["explosive"] = {{"tnt_factor", 1.37}, {"impulse_tnt_factor", -1}};
+  single_error(doc, "/charges/0/explosive/impulse_tnt_factor");
+  doc["charges"][0]["explosive"] = "c4";  // UFC 3-340-02 table 2-1 gives C-4 two factors
+  EXPECT_EQ(parse_ok(doc).charges[0].tnt_factor, 1.37);
+  EXPECT_EQ(parse_ok(doc).charges[0].impulse_tnt_factor, 1.19);
 
   doc["charges"][0]["explosive"] = {{"tnt_factor", 0}};
   single_error(doc, "/charges/0/explosive/tnt_factor");

@@ -45,6 +45,14 @@ export const pulseSamples = (pulse: BlastPulse, arrivalMs: number, count = 120):
     return [arrivalMs + u * pulse.duration_ms, pulse.peak_kpa * (1 - u) * Math.exp(-pulse.decay * u)];
   });
 
+/** The incident negative phase, the cubic p(t) = -P (27/4)(t/T)(1 - t/T)^2 (docs/blast-model.md),
+ *  sampled from `startMs`, where the positive phase ends. */
+export const negativeSamples = (phase: Blast["negative_phase"], startMs: number, count = 60): [number, number][] =>
+  Array.from({ length: count }, (_, i) => {
+    const u = (i + 1) / count;
+    return [startMs + u * phase.duration_ms, -phase.underpressure_kpa * 6.75 * u * (1 - u) ** 2];
+  });
+
 /** `count` distances from `lo` to `hi`, evenly spaced in log. */
 export const logSpace = (lo: number, hi: number, count: number): number[] =>
   Array.from({ length: count }, (_, i) => lo * (hi / lo) ** (i / (count - 1)));
@@ -174,8 +182,10 @@ export const blastView: View = async (root, route, signal) => {
         id: "plot-pulse", title: `Pressure–time pulse at ${num(distance)} m`, xLabel: "time since detonation (ms)",
         yLabel: "overpressure (kPa)",
         series: [
-          { name: "incident", cls: "incident", points: pulseSamples(one.incident_pulse, one.arrival_time_ms) },
-          { name: `reflected (${num(angle)}°)`, cls: "reflected", points: pulseSamples(one.reflected_pulse, one.arrival_time_ms) },
+          { name: "incident (with its negative phase)", cls: "incident",
+            points: [...pulseSamples(one.incident_pulse, one.arrival_time_ms),
+                     ...negativeSamples(one.negative_phase, one.arrival_time_ms + one.incident_pulse.duration_ms)] },
+          { name: `reflected (${num(angle)}°, positive phase)`, cls: "reflected", points: pulseSamples(one.reflected_pulse, one.arrival_time_ms) },
         ],
       }));
       current = { query: { ...base, distance_m: distance }, blast: one };

@@ -91,11 +91,12 @@ Plan parse(const ParsedFlags& flags) {
                      scene::kMaxPaneSide_m, width, height));
   Plan plan;
   plan.thickness_m = flag_number(flags, "thickness", plan.thickness_m);
-  if (!(plan.thickness_m > 0.0) || plan.thickness_m > std::min(width, height))
+  if (!(plan.thickness_m >= scene::kMinPaneThickness_m) ||
+      plan.thickness_m > std::min(width, height))
     flags.fail(
-        text::printf("--thickness must be greater than 0 m and at most the pane's "
+        text::printf("--thickness must be at least %g m (0.1 mm) and at most the pane's "
                      "shorter side, got %g",
-                     plan.thickness_m));
+                     scene::kMinPaneThickness_m, plan.thickness_m));
   if (flags.has("pressure-kpa") && flags.has("growth-length"))
     flags.fail("give --pressure-kpa or --growth-length, not both");
 

@@ -1,6 +1,7 @@
 // `brisance run` and `brisance validate`: a scene file through the simulator and the writers.
 #include <algorithm>
 #include <chrono>
+#include <cstdint>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -35,7 +36,11 @@ constexpr std::string_view kRunHelp =
     "  --frame-velocities  .json only: each pose of the frames also gets its linear and angular\n"
     "                      velocity (for motion blur; as GET .../frames?velocities=true)\n"
     "  --progress          progress on stderr once a run takes over a second: a bar with the\n"
-    "                      time left on a terminal, a line at every tenth otherwise\n";
+    "                      time left on a terminal, a line at every tenth otherwise\n"
+    "  --memory-mb M       stop a run whose estimated memory (bodies, meshes, panels, frames)\n"
+    "                      passes M MiB, as the service's --job-memory-mb does (default: none)\n"
+    "A run whose broken panes make more fragments, panels or frame samples than the scene\n"
+    "limits allow stops with an error (exit code 2) naming what to change.\n";
 
 constexpr std::string_view kValidateHelp =
     "usage: brisance validate SCENE.json\n"
@@ -180,6 +185,7 @@ int run_simulation(const Args& args, std::ostream& out) {
                           {{"output", true, "o"},
                            {"progress", false},
                            {"frame-velocities", false},
+                           {"memory-mb", true},
                            {"help", false, "h"}});
   if (flags.has("help")) {
     out << kRunHelp;
@@ -208,8 +214,17 @@ int run_simulation(const Args& args, std::ostream& out) {
   ProgressBar bar(flags.has("progress"), isatty(STDERR_FILENO) != 0);
   engine::RunHooks hooks;
   hooks.progress = [&bar](double fraction) { bar.update(fraction); };
-  const engine::RunOutcome outcome = engine::simulate(scene, hooks);
+  engine::RunBudget budget;
+  if (flags.has("memory-mb")) {
+    const auto megabytes = flags.number("memory-mb");
+    if (!megabytes || !(*megabytes > 0.0) || *megabytes > 1e9)
+      flags.fail("--memory-mb must be a number of MiB greater than 0");
+    budget.memory_bytes = static_cast<std::uint64_t>(*megabytes * 1024.0 * 1024.0);
+  }
+  const engine::RunOutcome outcome = engine::simulate(scene, hooks, budget);
   bar.finish();
+  if (outcome.over_budget)
+    flags.fail(std::string(scene_path) + ": " + outcome.over_budget->message);
   const engine::Result& result = outcome.result;
   write_output(output_path, format, result, frame_velocities);
   const engine::Stats& s = result.stats;

@@ -2,6 +2,7 @@
 // (the default) or on PostgreSQL shared by several nodes (--store postgres://…).
 // `brisance api-key`: makes a key for --api-keys.
 #include <cmath>
+#include <cstdint>
 #include <cstdlib>
 #include <fstream>
 #include <iostream>
@@ -72,6 +73,8 @@ constexpr std::string_view kHelp =
     "                       gets 507 and /readyz 503 (default 256, 0: off)\n"
     "  --job-timeout-s S    wall-clock limit per job run, 0 none (600)      "
     "[BRISANCE_JOB_TIMEOUT_S]\n"
+    "  --job-memory-mb M    memory budget per job run, MiB, 0 none (2048)  "
+    "[BRISANCE_JOB_MEMORY_MB]\n"
     "  --max-attempts N     runs a job may crash before it fails (3)        "
     "[BRISANCE_MAX_ATTEMPTS]\n"
     "  --retention-h H      keep finished jobs H hours, 0 forever (168)      "
@@ -164,6 +167,7 @@ int run_serve(const Args& args, std::ostream& out) {
                            {"max-connections"},
                            {"min-free-mb"},
                            {"job-timeout-s"},
+                           {"job-memory-mb"},
                            {"max-attempts"},
                            {"retention-h"},
                            {"sync"},
@@ -230,6 +234,8 @@ int run_serve(const Args& args, std::ostream& out) {
       static_cast<int>(integer_setting(flags, "workers", "BRISANCE_WORKERS", cores, 1, 256));
   workers.job_timeout_s =
       number_setting(flags, "job-timeout-s", "BRISANCE_JOB_TIMEOUT_S", 600, 0, 1e7);
+  workers.job_memory_bytes = static_cast<std::uint64_t>(
+      number_setting(flags, "job-memory-mb", "BRISANCE_JOB_MEMORY_MB", 2048, 0, 1e7) * 1024 * 1024);
   workers.retention = std::chrono::hours(
       integer_setting(flags, "retention-h", "BRISANCE_RETENTION_H", 168, 0, 1000000));
   const double grace_s = number_setting(flags, "grace-s", "BRISANCE_GRACE_S", 10, 0, 3600);

@@ -1,6 +1,7 @@
 #include "server/worker_pool.hpp"
 
 #include <cerrno>
+#include <cstdio>
 #include <random>
 
 #include <nlohmann/json.hpp>
@@ -182,8 +183,18 @@ void WorkerPool::run_job(ClaimedJob claimed) {
       return false;
     };
     try {
-      engine::RunOutcome run = engine::simulate(*parsed.scene, hooks);
-      if (!run.cancelled) {
+      engine::RunBudget budget;
+      budget.limits = service_.options().limits;
+      budget.memory_bytes = options_.job_memory_bytes;
+      engine::RunOutcome run = engine::simulate(*parsed.scene, hooks, budget);
+      if (run.over_budget) {
+        // The scene's own size, found as its panes broke: the job's fault, and it would fail
+        // again on any worker.
+        error_type = run.over_budget->kind == engine::OverBudget::Kind::memory
+                         ? "memory_budget_exceeded"
+                         : "limit_exceeded";
+        error_message = run.over_budget->message;
+      } else if (!run.cancelled) {
         try {
           outcome =
               service_.complete(id, owner_, run.result) ? JobStatus::succeeded : JobStatus::queued;
@@ -197,8 +208,9 @@ void WorkerPool::run_job(ClaimedJob claimed) {
         }
       } else if (timed_out) {
         error_type = "timeout";
-        error_message = "the run exceeded the job time limit of " +
-                        std::to_string(static_cast<long long>(options_.job_timeout_s)) + " s";
+        char limit[32];
+        std::snprintf(limit, sizeof limit, "%g", options_.job_timeout_s);
+        error_message = "the run exceeded the job time limit of " + std::string(limit) + " s";
       } else if (cancel_flag->load()) {
         outcome = JobStatus::cancelled;
       }

@@ -22,7 +22,9 @@ struct WorkerOptions {
   int workers = 2;
   std::chrono::milliseconds lease{15000};  // a dead worker's job is requeued after this
   std::chrono::milliseconds progress_interval{250};
-  double job_timeout_s = 600.0;          // 0: no limit
+  double job_timeout_s = 600.0;  // 0: no limit
+  // A run's estimated bytes at most (sim/engine/budget.hpp); 0: no budget.
+  std::uint64_t job_memory_bytes = std::uint64_t{2048} << 20;
   std::chrono::hours retention{24 * 7};  // finished jobs kept this long; 0: forever
   // How often the blob store (serve --blobs) is swept for blobs no job names.
   std::chrono::milliseconds blob_collect_interval{std::chrono::minutes(5)};

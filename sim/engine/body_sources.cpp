@@ -47,7 +47,7 @@ BodySource object_source(const scene::ObjectSpec& object, double max_panel_area_
   return source;
 }
 
-BodySources body_sources(const scene::Scene& scene) {
+BodySources body_sources(const scene::Scene& scene, Checkpoint& checkpoint, BudgetTally* tally) {
   BodySources sources;
   sources.bodies.reserve(scene.objects.size());
   std::vector<ChargeModel> charges;
@@ -58,13 +58,20 @@ BodySources body_sources(const scene::Scene& scene) {
   std::size_t solver_warnings = 0;
   for (std::size_t index = 0; index < scene.objects.size(); ++index) {
     const scene::ObjectSpec& object = scene.objects[index];
+    checkpoint.tick(64);  // a pane breaking polls on its own; other objects cost microseconds
     if (!object.fracture) {
       sources.bodies.push_back(object_source(object, scene.simulation.max_panel_area_m2));
+      if (tally) tally->add(sources.bodies.back());
       continue;
     }
-    // Breakable panes (DESIGN.md decision 9): a broken pane's fragments take its place.
+    // Breakable panes (DESIGN.md decision 9): a broken pane's fragments take its place. They are
+    // counted as soon as the pane is broken, so a run past its budget stops within one pane.
+    const std::size_t first = sources.bodies.size();
     PaneReport report = break_pane(object, index, charges, scene.simulation, sources.bodies,
-                                   out_of_range, solver_warnings);
+                                   out_of_range, solver_warnings, checkpoint);
+    if (tally)
+      for (std::size_t b = first; b < sources.bodies.size(); ++b)
+        tally->add(sources.bodies[b]);
     // Only the static model's stress is an upper estimate beyond small deflections.
     if (object.fracture->breakage == scene::FractureSpec::Breakage::static_plate)
       large_deflection = large_deflection || !report.small_deflection;

@@ -16,7 +16,8 @@ namespace brisance::engine {
 // the wall's is. Panels in the same plane (normals within 1e-6, offsets within 1 mm) on bodies
 // that touch (bounding boxes within 5 mm) form one surface; each panel's clearing distance S
 // becomes half the smaller in-plane extent of its surface (never less than its own face's).
-void share_clearing_across_surfaces(const std::vector<BodySource>& sources, Model& model) {
+void share_clearing_across_surfaces(const std::vector<BodySource>& sources, Model& model,
+                                    Checkpoint& checkpoint) {
   constexpr double kPlaneGap_m = 1e-3;
   constexpr double kTouchGap_m = 5e-3;
   const std::size_t n = model.panels.size();
@@ -64,7 +65,10 @@ void share_clearing_across_surfaces(const std::vector<BodySource>& sources, Mode
   for (std::size_t b = 0; b < bodies; ++b)
     std::sort(sorted.begin() + static_cast<std::ptrdiff_t>(first[b]),
               sorted.begin() + static_cast<std::ptrdiff_t>(first[b + 1]), by_offset);
+  // Polled every few thousand pairs: panels of one body at one offset (every tangent plane of
+  // a sphere lies at its radius) make the search quadratic in them.
   auto join_if_coplanar = [&](std::size_t a, std::size_t b) {
+    checkpoint.tick();
     if (world[a].normal.dot(world[b].normal) >= 1.0 - 1e-12) surface_of.unite(a, b);
   };
   for (std::size_t b = 0; b < bodies; ++b)
@@ -90,6 +94,7 @@ void share_clearing_across_surfaces(const std::vector<BodySource>& sources, Mode
   std::sort(by_min_x.begin(), by_min_x.end(),
             [&](std::size_t a, std::size_t b) { return boxes[a].min.x() < boxes[b].min.x(); });
   for (std::size_t i = 0; i < bodies; ++i) {
+    checkpoint.tick(64);
     const std::size_t a = by_min_x[i];
     if (first[a] == first[a + 1]) continue;  // no panels (anchored)
     for (std::size_t j = i + 1;
@@ -110,6 +115,7 @@ void share_clearing_across_surfaces(const std::vector<BodySource>& sources, Mode
   };
   std::map<std::size_t, Surface> surfaces;
   for (std::size_t p = 0; p < n; ++p) {
+    checkpoint.tick();
     Surface& surface = surfaces[surface_of.find(p)];
     surface.normal = world[p].normal;
     surface.offset = world[p].offset;
@@ -119,6 +125,7 @@ void share_clearing_across_surfaces(const std::vector<BodySource>& sources, Mode
   }
   std::map<std::size_t, double> half_size;
   for (const auto& [root, surface] : surfaces) {
+    checkpoint.tick(64);
     Vec3 u = Vec3::UnitY().cross(surface.normal);
     if (u.norm() < 1e-6) u = Vec3::UnitX().cross(surface.normal);
     u.normalize();

@@ -23,6 +23,7 @@
 #include "sim/blast/panel_load.hpp"
 #include "sim/dynamics/ground_contact.hpp"
 #include "sim/dynamics/rigid_body.hpp"
+#include "sim/engine/interrupt.hpp"
 #include "sim/engine/result.hpp"
 #include "sim/geometry/mesh.hpp"
 #include "sim/scene/scene.hpp"
@@ -195,10 +196,41 @@ struct Box {
 };
 Box world_box(const BodySource& source);
 
+// The run's size as its bodies are created (budget.hpp): counts and an estimate of the bytes the
+// run will hold for them, checked against the budget at each add (budget.cpp).
+class BudgetTally {
+ public:
+  BudgetTally(const RunBudget& budget, const scene::Scene& scene);
+  // A body the run creates: counted, then checked; throws RunOverBudget past a limit or the
+  // memory budget. `fragment`: a piece of a broken pane (counted against max_fragments).
+  void add(const BodySource& source);
+  // The bytes a body of this source costs the run, frames included (budget.cpp).
+  std::uint64_t bytes_of(const BodySource& source) const;
+  std::uint64_t bytes() const { return bytes_; }
+
+ private:
+  void check() const;
+
+  RunBudget budget_;
+  std::uint64_t frames_ = 0;   // stored frames, the first at t = 0 included
+  std::uint64_t charges_ = 0;  // panel events and shielding are per panel and charge
+  std::uint64_t bodies_ = 0;
+  std::uint64_t fragments_ = 0;
+  std::uint64_t panels_ = 0;
+  std::uint64_t bytes_ = 0;
+};
+
 // --- Prepare stages, in the order prepare runs them ---
 
-// Every body the run creates: scene objects as they are, breakable panes broken or not.
-BodySources body_sources(const scene::Scene& scene);
+// Every body the run creates: scene objects as they are, breakable panes broken or not. Polls
+// `checkpoint` per object and while a pane breaks.
+// `tally`, if given, counts every body made and stops the run past its budget.
+BodySources body_sources(const scene::Scene& scene, Checkpoint& checkpoint,
+                         BudgetTally* tally = nullptr);
+inline BodySources body_sources(const scene::Scene& scene) {
+  Checkpoint never;
+  return body_sources(scene, never);
+}
 
 // The normal force each body presses down with at the start: its own weight plus its share of
 // the bodies resting on it, N (prepare_holds.cpp).
@@ -217,22 +249,32 @@ Footing footing(const std::vector<BodySource>& sources, std::optional<double> gr
 // The anchored bodies set into movable ones at the start (prepare_holds.cpp): within 5 mm of
 // them, boxes overlapping across the gap, and not standing on the ground themselves.
 std::vector<EmbeddedAnchor> embedded_anchors(const std::vector<BodySource>& sources,
-                                             std::optional<double> ground_height_m);
+                                             std::optional<double> ground_height_m,
+                                             Checkpoint& checkpoint);
 
 // Widens each panel's clearing distance to the contiguous coplanar surface it lies in
 // (clearing_surfaces.cpp).
-void share_clearing_across_surfaces(const std::vector<BodySource>& sources, Model& model);
+void share_clearing_across_surfaces(const std::vector<BodySource>& sources, Model& model,
+                                    Checkpoint& checkpoint);
 
 // Each panel's shielding from each charge, once per charge before stepping (the wave outruns
 // the debris, thesis §4.2.2): fills model.shielding, or leaves it empty where the scene asks for
 // none or nothing can shadow anything (prepare_shielding.cpp).
 void prepare_shielding(const scene::SimulationSpec& simulation,
-                       const std::vector<BodySource>& sources, Model& model, Stats& stats);
+                       const std::vector<BodySource>& sources, Model& model, Stats& stats,
+                       Checkpoint& checkpoint);
 
 // The read-only model; moves each source's mesh into `bodies` (the result's body list). The
-// shielding stage's wall-clock time goes to `shielding_wall_time_s`, s, if given.
+// shielding stage's wall-clock time goes to `shielding_wall_time_s`, s, if given. Every stage
+// polls `checkpoint` (RunCancelled unwinds out of it).
 Model prepare(const scene::Scene& scene, std::vector<BodySource>& sources,
-              std::vector<BodyInfo>& bodies, Stats& stats, double* shielding_wall_time_s = nullptr);
+              std::vector<BodyInfo>& bodies, Stats& stats, Checkpoint& checkpoint,
+              double* shielding_wall_time_s = nullptr);
+inline Model prepare(const scene::Scene& scene, std::vector<BodySource>& sources,
+                     std::vector<BodyInfo>& bodies, Stats& stats) {
+  Checkpoint never;
+  return prepare(scene, sources, bodies, stats, never);
+}
 
 // The pose of a body's shape origin from the state of its centre of mass.
 Pose origin_pose(const Model& model, std::size_t body, const dynamics::BodyState& state);

@@ -136,7 +136,7 @@ void fragment_panels(const geometry::Polygon& polygon, double thickness, double 
 PaneReport break_pane(const scene::ObjectSpec& object, std::size_t index,
                       const std::vector<ChargeModel>& charges,
                       const scene::SimulationSpec& simulation, std::vector<BodySource>& out,
-                      bool& out_of_range, std::size_t& solver_warnings) {
+                      bool& out_of_range, std::size_t& solver_warnings, Checkpoint& checkpoint) {
   const scene::FractureSpec& spec = *object.fracture;
   assert(object.shape == scene::ShapeType::box);
   const double width = object.box_size_m.x();
@@ -181,7 +181,9 @@ PaneReport break_pane(const scene::ObjectSpec& object, std::size_t index,
   report.growth_length_clamped = pattern_plan.growth_length_clamped;
   const fracture::FractureParams& params = pattern_plan.params;
   assert(!fracture::validate(params));  // the scene's fracture spec was validated
-  const fracture::FracturePattern pattern = fracture::fracture(params);
+  checkpoint.poll();
+  const fracture::FracturePattern pattern = fracture::fracture(params, checkpoint.stop_request());
+  if (pattern.stopped) throw RunCancelled{};
 
   report.first_body = static_cast<std::uint32_t>(out.size());
   report.fragment_count = pattern.fragments.size();
@@ -189,6 +191,7 @@ PaneReport break_pane(const scene::ObjectSpec& object, std::size_t index,
   const Vec2 half(0.5 * width, 0.5 * height);
   const bool own_clearing = spec.clearing == scene::FractureSpec::Clearing::fragment;
   for (std::size_t k = 0; k < pattern.fragments.size(); ++k) {
+    checkpoint.tick(256);
     const fracture::Fragment& piece = pattern.fragments[k];
     geometry::Polygon local = geometry::remove_collinear(piece.polygon_m);
     for (Vec2& v : local)

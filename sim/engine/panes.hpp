@@ -19,10 +19,11 @@ BodySource object_source(const scene::ObjectSpec& object, double max_panel_area_
 // Breaks the pane `object` (scene object `index`), appending its body sources
 // to `out`: the fragments (named "<pane>/f<k>"), or the pane itself unbroken (anchored when
 // framed). Sets `out_of_range` when a charge's blast point lies outside the fitted range and
-// adds the dynamic plate solver's warnings to `solver_warnings`.
+// adds the dynamic plate solver's warnings to `solver_warnings`. Polls `checkpoint` after the
+// plate model, during crack growth and between fragments.
 PaneReport break_pane(const scene::ObjectSpec& object, std::size_t index,
                       const std::vector<ChargeModel>& charges,
                       const scene::SimulationSpec& simulation, std::vector<BodySource>& out,
-                      bool& out_of_range, std::size_t& solver_warnings);
+                      bool& out_of_range, std::size_t& solver_warnings, Checkpoint& checkpoint);
 
 }  // namespace brisance::engine

@@ -83,7 +83,7 @@ void prepare_world(const scene::Scene& scene, Model& model) {
 // One body from its source: mass properties, hull, drag shape and panels; its hold and how it
 // starts (anchored, held, or falling).
 void prepare_body(BodySource& source, double normal_force_n, bool standing, double gravity,
-                  Model& model, Stats& stats) {
+                  Model& model, Stats& stats, Checkpoint& checkpoint) {
   const auto index = static_cast<std::uint32_t>(model.bodies.size());
   // Fragments: the prism's mass properties in closed form (thesis §§6.3-6.4).
   const geometry::MassProperties& unit = source.unit_mass;
@@ -95,6 +95,7 @@ void prepare_body(BodySource& source, double normal_force_n, bool standing, doub
   body.rotates = source.rotates;
   body.drag_coefficient = source.drag_coefficient;
   for (const Vec3& v : source.mesh.vertices) {
+    checkpoint.tick(64);  // the search below makes a mesh of n vertices cost n^2 / 2
     const Vec3 p = v - unit.centre_of_mass;
     if (std::find(body.hull_points.begin(), body.hull_points.end(), p) == body.hull_points.end())
       body.hull_points.push_back(p);
@@ -144,8 +145,10 @@ void prepare_body(BodySource& source, double normal_force_n, bool standing, doub
 // face, sim/blast/panel_load), except a sheltered panel facing away from the charge. A face
 // against the ground or a neighbour is no exception: the wave reaches it from its edges, as it
 // does a rear face, and opposite faces of a body in a wall or on the ground balance.
-void prepare_events(const std::vector<BodySource>& sources, Model& model, Stats& stats) {
+void prepare_events(const std::vector<BodySource>& sources, Model& model, Stats& stats,
+                    Checkpoint& checkpoint) {
   for (std::uint32_t p = 0; p < model.panels.size(); ++p) {
+    checkpoint.tick(1024);
     const PanelModel& panel = model.panels[p];
     const BodySource& object = sources[panel.body];
     const Vec3 world_com = object.position + object.orientation * model.centre_of_mass[panel.body];
@@ -181,7 +184,8 @@ void prepare_events(const std::vector<BodySource>& sources, Model& model, Stats&
 }  // namespace
 
 Model prepare(const scene::Scene& scene, std::vector<BodySource>& sources,
-              std::vector<BodyInfo>& bodies, Stats& stats, double* shielding_wall_time_s) {
+              std::vector<BodyInfo>& bodies, Stats& stats, Checkpoint& checkpoint,
+              double* shielding_wall_time_s) {
   Model model;
   prepare_world(scene, model);
   const double gravity = scene.environment.gravity_m_s2.norm();
@@ -189,9 +193,12 @@ Model prepare(const scene::Scene& scene, std::vector<BodySource>& sources,
   const std::optional<double> ground_height_m =
       model.ground ? std::optional(model.ground->height_m) : std::optional<double>();
   Footing feet = footing(sources, ground_height_m);
-  model.embedded_anchors = embedded_anchors(sources, ground_height_m);
-  for (std::size_t b = 0; b < sources.size(); ++b)
-    prepare_body(sources[b], normal_force[b], feet.standing[b], gravity, model, stats);
+  checkpoint.poll();
+  model.embedded_anchors = embedded_anchors(sources, ground_height_m, checkpoint);
+  for (std::size_t b = 0; b < sources.size(); ++b) {
+    checkpoint.tick(64);
+    prepare_body(sources[b], normal_force[b], feet.standing[b], gravity, model, stats, checkpoint);
+  }
   model.supports = std::move(feet.supports);
 
   for (const scene::ChargeSpec& charge : scene.charges)
@@ -203,17 +210,18 @@ Model prepare(const scene::Scene& scene, std::vector<BodySource>& sources,
     std::vector<double> own(model.panels.size());
     for (std::size_t p = 0; p < model.panels.size(); ++p)
       own[p] = model.panels[p].clearing_distance_m;
-    share_clearing_across_surfaces(sources, model);
+    share_clearing_across_surfaces(sources, model, checkpoint);
     for (std::size_t p = 0; p < model.panels.size(); ++p)
       if (model.fragment[model.panels[p].body]) model.panels[p].clearing_distance_m = own[p];
   }
 
   const auto shielding_start = std::chrono::steady_clock::now();
-  prepare_shielding(scene.simulation, sources, model, stats);
+  prepare_shielding(scene.simulation, sources, model, stats, checkpoint);
   if (shielding_wall_time_s)
     *shielding_wall_time_s =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - shielding_start).count();
-  prepare_events(sources, model, stats);
+  prepare_events(sources, model, stats, checkpoint);
+  checkpoint.poll();
 
   // The result's bodies, each with its mesh (moved out of its source: prepare is done with it).
   bodies.reserve(sources.size());

@@ -113,7 +113,8 @@ Footing footing(const std::vector<BodySource>& sources, std::optional<double> gr
 }
 
 std::vector<EmbeddedAnchor> embedded_anchors(const std::vector<BodySource>& sources,
-                                             std::optional<double> ground_height_m) {
+                                             std::optional<double> ground_height_m,
+                                             Checkpoint& checkpoint) {
   std::vector<EmbeddedAnchor> anchors;
   std::vector<std::size_t> anchored;
   for (std::size_t b = 0; b < sources.size(); ++b)
@@ -123,6 +124,7 @@ std::vector<EmbeddedAnchor> embedded_anchors(const std::vector<BodySource>& sour
   for (std::size_t b = 0; b < sources.size(); ++b)
     boxes[b] = world_box(sources[b]);
   for (std::size_t a : anchored) {
+    checkpoint.tick(16);  // each anchor looks at every body
     const Box& box = boxes[a];
     // Standing on the ground, it holds on to the ground whatever happens around it.
     if (ground_height_m && box.min.y() <= *ground_height_m + kContactGap_m) continue;

@@ -32,7 +32,8 @@ const occlusion::SphereMap& sphere_map(int columns, int rows) {
 }  // namespace
 
 void prepare_shielding(const scene::SimulationSpec& simulation,
-                       const std::vector<BodySource>& sources, Model& model, Stats& stats) {
+                       const std::vector<BodySource>& sources, Model& model, Stats& stats,
+                       Checkpoint& checkpoint) {
   stats.occlusion_skipped = true;
   if (simulation.occlusion == scene::OcclusionMode::off || model.charges.empty() ||
       model.panels.empty())
@@ -69,6 +70,7 @@ void prepare_shielding(const scene::SimulationSpec& simulation,
   const bool forced = simulation.occlusion == scene::OcclusionMode::on;
   const occlusion::SphereMap* map = nullptr;  // for the first charge that needs it
   for (std::size_t c = 0; c < model.charges.size(); ++c) {
+    checkpoint.poll();
     const Vec3& charge = model.charges[c].position;
     if (!forced && !occlusion::footprints_may_overlap(charge, objects)) continue;
     if (!map) map = &sphere_map(settings.face_columns, settings.face_rows);

@@ -9,6 +9,7 @@
 #include <cstddef>
 #include <utility>
 
+#include "sim/engine/interrupt.hpp"
 #include "sim/engine/model.hpp"
 #include "sim/engine/run.hpp"
 
@@ -79,7 +80,7 @@ void report_fragments(const std::vector<BodySource>& sources, const RunState& ru
 
 }  // namespace
 
-RunOutcome simulate(const scene::Scene& scene, const RunHooks& hooks) {
+RunOutcome simulate(const scene::Scene& scene, const RunHooks& hooks, const RunBudget& budget) {
   const auto start = std::chrono::steady_clock::now();
   RunOutcome outcome;
   Result& result = outcome.result;
@@ -89,7 +90,28 @@ RunOutcome simulate(const scene::Scene& scene, const RunHooks& hooks) {
   const auto seconds_since = [](Clock::time_point from) {
     return std::chrono::duration<double>(Clock::now() - from).count();
   };
-  BodySources sources = body_sources(scene);
+  // Cancel and the time limit reach every phase (interrupt.hpp): a stop in breaking panes or in
+  // prepare unwinds to here; the step loop polls the same hook.
+  Checkpoint checkpoint(hooks.cancel_requested);
+  const auto stopped_in = [&](RunPhase phase) {
+    outcome.cancelled = true;
+    outcome.cancelled_in = phase;
+    result.stats.wall_time_s = seconds_since(start);
+    return std::move(outcome);
+  };
+  // What the run creates is counted as it is created, before prepare and the frames allocate
+  // for it (budget.hpp).
+  BudgetTally tally(budget, scene);
+  BodySources sources;
+  try {
+    sources = body_sources(scene, checkpoint, &tally);
+  } catch (const RunCancelled&) {
+    return stopped_in(RunPhase::fracture);
+  } catch (RunOverBudget& over) {
+    outcome.over_budget = std::move(over.what);
+    result.stats.wall_time_s = seconds_since(start);
+    return outcome;
+  }
   outcome.times.fracture_s = seconds_since(start);
   for (const auto& [code, message] : sources.warnings)
     warnings.add(code, message);
@@ -103,8 +125,13 @@ RunOutcome simulate(const scene::Scene& scene, const RunHooks& hooks) {
     }
   }
   const auto prepare_start = Clock::now();
-  const Model model =
-      prepare(scene, sources.bodies, result.bodies, result.stats, &outcome.times.shielding_s);
+  Model model;
+  try {
+    model = prepare(scene, sources.bodies, result.bodies, result.stats, checkpoint,
+                    &outcome.times.shielding_s);
+  } catch (const RunCancelled&) {
+    return stopped_in(RunPhase::prepare);
+  }
   outcome.times.prepare_s = seconds_since(prepare_start) - outcome.times.shielding_s;
   result.stats.bodies = model.bodies.size();
   if (!model.body_shielding.empty()) {

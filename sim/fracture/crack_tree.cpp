@@ -44,8 +44,9 @@ class Random {
 // The growth state. Hot per-step data lives in flat arrays indexed by segment or tip.
 class Grower {
  public:
-  explicit Grower(const FractureParams& params)
+  Grower(const FractureParams& params, const StopRequest& stop)
       : p_(params),
+        stop_(stop),
         random_(params.seed),
         nx_(params.grid_x),
         ny_(params.grid_y),
@@ -97,6 +98,7 @@ class Grower {
   bool descends_from(std::uint32_t node, std::uint32_t ancestor) const;
 
   const FractureParams& p_;
+  const StopRequest& stop_;
   Random random_;
   const int nx_;
   const int ny_;
@@ -469,6 +471,10 @@ CrackTree Grower::grow() {
   const double stop_m = p_.growth_limit_m > 0.0 ? half_length_m + p_.growth_limit_m
                                                 : std::numeric_limits<double>::infinity();
   while (!live_.empty() && tree_.steps < max_steps && grown_m < stop_m) {
+    if (stop_ && tree_.steps % 64 == 0 && stop_()) {
+      tree_.stopped = true;
+      return std::move(tree_);
+    }
     ++tree_.steps;
     grown_m += step_m_;
     for (std::size_t i = 0; i < live_.size(); ++i) {  // children added this step wait
@@ -614,9 +620,9 @@ double critical_crack_length_m(double k_c_pa_sqrt_m, double stress_pa) {
   return ratio * ratio / std::numbers::pi;  // thesis eq. 5.5 solved for a
 }
 
-CrackTree grow_crack_tree(const FractureParams& params) {
+CrackTree grow_crack_tree(const FractureParams& params, const StopRequest& stop) {
   assert(!validate(params));
-  Grower grower(params);
+  Grower grower(params, stop);
   return grower.grow();
 }
 

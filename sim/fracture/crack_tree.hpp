@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -111,10 +112,15 @@ struct CrackTree {
   std::size_t forks = 0;
   std::size_t hits = 0;
   std::size_t killed = 0;
+  bool stopped = false;  // the stop request ended the growth: the tree is incomplete
 };
+
+// Polled during long work (every 64 growth steps); returning true abandons it. A cancel or a
+// time limit of the caller's; empty: never.
+using StopRequest = std::function<bool()>;
 
 // Grows the crack tree (thesis §5.4.1 algorithm). params must pass validate().
 // Deterministic: the same params give bit-identical trees on every platform with IEEE doubles.
-CrackTree grow_crack_tree(const FractureParams& params);
+CrackTree grow_crack_tree(const FractureParams& params, const StopRequest& stop = {});
 
 }  // namespace brisance::fracture

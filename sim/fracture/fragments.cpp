@@ -372,8 +372,16 @@ FracturePattern extract_fragments(const CrackTree& tree, double width_m, double 
   return pattern;
 }
 
-FracturePattern fracture(const FractureParams& params) {
-  return extract_fragments(grow_crack_tree(params), params.width_m, params.height_m);
+FracturePattern fracture(const FractureParams& params, const StopRequest& stop) {
+  const CrackTree tree = grow_crack_tree(params, stop);
+  if (tree.stopped) {
+    FracturePattern pattern;
+    pattern.width_m = params.width_m;
+    pattern.height_m = params.height_m;
+    pattern.stopped = true;
+    return pattern;
+  }
+  return extract_fragments(tree, params.width_m, params.height_m);
 }
 
 }  // namespace brisance::fracture

@@ -33,6 +33,7 @@ struct FracturePattern {
   // stays part of the surrounding fragment.
   std::size_t dropped_edges = 0;
   std::size_t crossings = 0;  // crack crossings the growth let through, split into junctions
+  bool stopped = false;       // the stop request ended the growth: no fragments
 };
 
 // The faces of the crack tree's final graph inside the pane. Builds the planar arrangement of
@@ -41,7 +42,7 @@ struct FracturePattern {
 // walks every bounded face by next-edge-around-vertex traversal.
 FracturePattern extract_fragments(const CrackTree& tree, double width_m, double height_m);
 
-// grow_crack_tree followed by extract_fragments.
-FracturePattern fracture(const FractureParams& params);
+// grow_crack_tree followed by extract_fragments; nothing extracted if `stop` ended the growth.
+FracturePattern fracture(const FractureParams& params, const StopRequest& stop = {});
 
 }  // namespace brisance::fracture

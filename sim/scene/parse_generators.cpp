@@ -60,8 +60,8 @@ void check_pane_thickness(const Fields& fields, const WindowParams& window_param
 // checked against it here; otherwise the caller checks it once the size is known.
 void read_window_fields(const Fields& fields, bool pane_known, WindowParams& window_params) {
   Errors& errors = fields.errors();
-  window_params.thickness_m =
-      fields.number("thickness", window_params.thickness_m, range(0.0, true, 0.1, false, "m"));
+  window_params.thickness_m = fields.number("thickness", window_params.thickness_m,
+                                            range(kMinPaneThickness_m, false, 0.1, false, "m"));
   if (pane_known) check_pane_thickness(fields, window_params);
   std::optional<Material> material = find_material(window_params.material);
   if (const json* name = fields.get("material")) {

@@ -448,6 +448,11 @@ std::optional<SceneObject> parse_object(const json& value, const std::string& po
                    "a breakable pane's width and height must be at most " +
                        format_number(kMaxPaneSide_m) + " m; got size [" + format_number(size.x()) +
                        ", " + format_number(size.y()) + ", " + format_number(size.z()) + "]");
+      } else if (size.z() < kMinPaneThickness_m) {
+        errors.add(child(child(fields.at("shape"), "size"), 2),
+                   "a breakable pane must be at least " + format_number(kMinPaneThickness_m) +
+                       " m (0.1 mm) thick; got " + format_number(size.z()) +
+                       " m; make it thicker (or leave out 'fracture' for an unbreakable sheet)");
       } else if (size.z() > size.x() || size.z() > size.y()) {
         errors.add(child(child(fields.at("shape"), "size"), 2),
                    "a breakable pane's thickness is size[2] and must be its smallest edge; got "

@@ -63,6 +63,10 @@ enum class ShapeType { box, mesh };
 // lumped-mass plate of the pane's size) and its crack pattern are meant for glazing, and beyond
 // some 1e100 m its stiffness underflows to zero. Real panes stay below about 20 m.
 inline constexpr double kMaxPaneSide_m = 100.0;
+// The thinnest breakable pane, m: 0.1 mm, far below any glazing (thin glass starts near 0.5 mm).
+// The plate model's mass and stiffness go with the thickness and its cube; below about 1e-100 m
+// they underflow to zero.
+inline constexpr double kMinPaneThickness_m = 1e-4;
 
 struct FractureSpec {
   enum class Trigger { automatic, always };
@@ -176,7 +180,10 @@ struct Limits {
   std::size_t max_panels = 2000000;        // whole scene, after subdivision
   double max_duration_s = 600.0;
   double max_frame_rate_hz = 1000.0;
-  std::size_t max_frame_samples = 50000000;  // frames x bodies
+  std::size_t max_frame_samples = 50000000;  // frames x bodies (fragments of broken panes too)
+  // Fragments all broken panes of a run make together; counted as the panes break (the pattern
+  // depends on the blast), so a run past it stops with an error rather than grow.
+  std::size_t max_fragments = 100000;
 };
 
 // One problem with the input: an RFC 6901 JSON pointer to the offending value and a message that

@@ -243,5 +243,29 @@ TEST(FractureCommand, PanesAreAtMostAHundredMetresAndTheLargestFinishes) {
   }
 }
 
+// A pane some 1e-200 m thick: the plate model's mass and stiffness underflow to zero (an assert
+// in response::solve_plate). Panes are at least 0.1 mm thick; the thinnest one allowed finishes
+// by either breakage model.
+TEST(FractureCommand, PanesAreAtLeastATenthOfAMillimetreThickAndTheThinnestFinishes) {
+  const std::string out = temp_path("thin.json");
+  for (const char* thickness : {"1e-200", "0", "9.9e-5"}) {
+    EXPECT_NE(usage_error({"--width", "1", "--height", "1", "--thickness", thickness,
+                           "--duration-ms", "10", "-o", out})
+                  .find("--thickness must be at least 0.0001 m (0.1 mm)"),
+              std::string::npos)
+        << thickness;
+  }
+  for (const std::vector<std::string_view>& model :
+       {std::vector<std::string_view>{"--breakage", "static"},
+        std::vector<std::string_view>{"--duration-ms", "10"}}) {
+    std::vector<std::string_view> args = {"--width", "1",      "--height", "1",  "--thickness",
+                                          "1e-4",    "--grid", "33",       "-o", out};
+    args.insert(args.end(), model.begin(), model.end());
+    std::ostringstream text;
+    EXPECT_EQ(run_fracture(args, text), kExitOk) << model[0];
+    EXPECT_NE(read(out).find("\"fragments\""), std::string::npos) << model[0];
+  }
+}
+
 }  // namespace
 }  // namespace brisance::cli

@@ -64,6 +64,26 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   }
   flag("--thickness", 0.001, 0.05);
   flag("--pressure-kpa", 0.1, 1e5);
+  // The dynamic breakage model (the default) needs the pulse's duration: nearly always given,
+  // so most inputs reach the plate model; sometimes its impulse too, or the static model.
+  if (in.ConsumeIntegralInRange(0, 15) != 0) {
+    words.push_back("--duration-ms");
+    words.push_back(value(in, 0.01, 100.0));
+  }
+  flag("--impulse-kpa-ms", 0.01, 1e4);
+  if (in.ConsumeIntegralInRange(0, 3) == 0) {
+    words.push_back("--breakage");
+    switch (in.ConsumeIntegralInRange(0, 4)) {
+      case 0:
+        words.push_back(in.ConsumeRandomLengthString(12));
+        break;
+      case 1:
+        words.push_back("dynamic");
+        break;
+      default:
+        words.push_back("static");
+    }
+  }
   flag("--growth-length", 0.001, 2.0);
   flag("--branch-angle-deg", -10.0, 200.0);
   flag("--angle-variance-deg", -10.0, 400.0);

@@ -58,14 +58,16 @@ json scene_from(FuzzedDataProvider& in) {
     objects.push_back(std::move(box));
   }
   if (in.ConsumeIntegralInRange(0, 3) == 0) {
-    // A small pane that always breaks, on a coarse grid, so fragments fly too.
-    objects.push_back(
-        {{"name", "pane"},
-         {"shape", {{"type", "box"}, {"size", {0.3, 0.2, 0.006}}}},
-         {"position", vec3(in, -3.0, 3.0)},
-         {"material", "glass"},
-         {"anchored", true},
-         {"fracture", {{"trigger", "always"}, {"grid", in.ConsumeIntegralInRange(8, 64)}}}});
+    // A small pane that always breaks, on a coarse grid, so fragments fly too; sometimes held
+    // by a frame along its edges (docs/scene-format.md: a breakable pane is never anchored).
+    objects.push_back({{"name", "pane"},
+                       {"shape", {{"type", "box"}, {"size", {0.3, 0.2, 0.006}}}},
+                       {"position", vec3(in, -3.0, 3.0)},
+                       {"material", "glass"},
+                       {"fracture",
+                        {{"break", "always"},
+                         {"framed", in.ConsumeBool()},
+                         {"grid", in.ConsumeIntegralInRange(8, 64)}}}});
   }
   json scene = {{"charges", json::array({{{"position", vec3(in, -4.0, 4.0)},
                                           {"mass", in.ConsumeFloatingPointInRange(0.01, 100.0)},

@@ -41,6 +41,8 @@ struct TestServerOptions {
   std::int64_t max_db_bytes = 0;  // 0: no limit (see SqliteOptions::max_size_bytes)
   std::chrono::milliseconds store_failure_pause{5000};
   std::uint64_t min_free_bytes = 0;  // the data folder's free-space floor; 0: not checked
+  double job_timeout_s = 600.0;      // serve --job-timeout-s
+  std::uint64_t job_memory_bytes = std::uint64_t{2048} << 20;  // serve --job-memory-mb
   // The store: SQLite unless BRISANCE_TEST_STORE=postgres (CTest runs the API suite both ways),
   // then a new database on the test program's PostgreSQL server, or `postgres_url` when given
   // (several servers on one database stand for several nodes).
@@ -101,6 +103,8 @@ class TestServer {
     worker_options.workers = options.workers;
     worker_options.lease = options.lease;
     worker_options.store_failure_pause = options.store_failure_pause;
+    worker_options.job_timeout_s = options.job_timeout_s;
+    worker_options.job_memory_bytes = options.job_memory_bytes;
     pool_ = std::make_unique<server::WorkerPool>(*service_, metrics_, worker_options);
     if (!options.api_keys.empty()) keys_ = server::ApiKeys::parse(options.api_keys, "test");
     server::ApiOptions api_options;

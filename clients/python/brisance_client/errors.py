@@ -87,8 +87,8 @@ class JobFailedError(BrisanceError):
     """A waited-for job ended ``failed`` or ``cancelled`` instead of ``succeeded``.
 
     ``job`` is the final :class:`~brisance_client.Job`; for a failed job ``error_type``
-    (``simulation_error``, ``timeout``, ``worker_lost``, ``invalid_scene``) and ``message`` come
-    from its ``error`` field.
+    (``simulation_error``, ``timeout``, ``worker_lost``, ``invalid_scene``, ``limit_exceeded``,
+    ``memory_budget_exceeded``) and ``message`` come from its ``error`` field.
     """
 
     def __init__(self, job: Any) -> None:

@@ -830,10 +830,13 @@ export interface components {
             /**
              * @description A stable code: `invalid_scene` (the stored scene no longer validates),
              *     `simulation_error` (the simulator failed), `timeout` (the run exceeded
-             *     `--job-timeout-s`), `worker_lost` (workers running it kept dying, `--max-attempts`).
+             *     `--job-timeout-s`), `worker_lost` (workers running it kept dying, `--max-attempts`),
+             *     `limit_exceeded` (its broken panes made more fragments, load panels or frames x
+             *     bodies than the limits allow), `memory_budget_exceeded` (the run's estimated memory
+             *     passed `--job-memory-mb`); the message says what to change in the scene.
              * @enum {string}
              */
-            type: "invalid_scene" | "simulation_error" | "timeout" | "worker_lost";
+            type: "invalid_scene" | "simulation_error" | "timeout" | "worker_lost" | "limit_exceeded" | "memory_budget_exceeded";
             /** @description What happened, for people. */
             message: string;
         };
@@ -1833,7 +1836,7 @@ export interface components {
          * @description A rigid body. Its mass is `mass`, or `density` (or else the material's density) times the
          *     shape's volume: give `mass` or `density` (not both), or neither with a `material`. With
          *     `fracture` it is a breakable pane: a box `[width, height, thickness]` (thickness the
-         *     smallest, front face +z), of a breakable material (or with `fracture.strength`,
+         *     smallest and at least 0.1 mm, front face +z), of a breakable material (or with `fracture.strength`,
          *     `toughness` and `youngs_modulus`), not anchored.
          */
         SceneObject: {
@@ -2068,7 +2071,7 @@ export interface components {
                 number
             ];
             /**
-             * @description m; at most the width and the height.
+             * @description m; at least 0.1 mm, at most the width and the height.
              * @default 0.006
              */
             thickness?: number;

@@ -272,11 +272,21 @@ TEST(Simulator, ProgressRisesToOneAndCancelStops) {
   EXPECT_EQ(seen.back(), 1.0);
   EXPECT_LE(seen.size(), 202u);
 
+  // The hook is polled in prepare too, then once per step: cancelled after ten steps.
   int polls = 0;
   hooks.progress = nullptr;
-  hooks.cancel_requested = [&] { return ++polls > 10; };
+  hooks.cancel_requested = [&] {
+    ++polls;
+    return false;
+  };
+  const RunOutcome full = simulate(s, hooks);
+  ASSERT_GT(polls, static_cast<int>(full.result.stats.steps));
+  const int before_stepping = polls - static_cast<int>(full.result.stats.steps);
+  polls = 0;
+  hooks.cancel_requested = [&] { return ++polls > before_stepping + 10; };
   const RunOutcome cancelled = simulate(s, hooks);
   EXPECT_TRUE(cancelled.cancelled);
+  EXPECT_EQ(cancelled.cancelled_in, RunPhase::stepping);
   EXPECT_EQ(cancelled.result.stats.steps, 10u);
 }
 

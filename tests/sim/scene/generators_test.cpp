@@ -454,6 +454,9 @@ TEST(BrickWallOpenings, BadOpeningsAreErrorsWithPointers) {
        R"([{"position": [0, 0.4], "size": [0.5, 0.3], "window": {"size": [0.4, 0.2]}}])"},
       {"/generators/0/openings/0/window/thickness",
        R"([{"position": [0, 0.4], "size": [0.5, 0.3], "window": {"thickness": 0.3}}])"},
+      // Thinner than 0.1 mm: the plate model's mass and stiffness would underflow.
+      {"/generators/0/openings/0/window/thickness",
+       R"([{"position": [0, 0.4], "size": [0.5, 0.3], "window": {"thickness": 1e-200}}])"},
       {"/generators/0/openings/0/window/frame_depth",
        R"([{"position": [0, 0.4], "size": [0.5, 0.3],
             "window": {"thickness": 0.05, "frame_depth": 0.01}}])"},

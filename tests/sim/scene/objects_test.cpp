@@ -392,6 +392,11 @@ TEST(SceneFracture, ErrorsPointAtTheFieldAndNameTheFix) {
          d["objects"][0]["shape"]["size"] = {1e200, 0.9, 0.006};
        },
        "at most 100 m"},
+      {"/objects/0/shape/size/2",
+       [](json& d) {
+         d["objects"][0]["shape"]["size"] = {1.2, 0.9, 1e-200};
+       },
+       "at least 0.0001 m"},
       {"/objects/0/anchored", [](json& d) { d["objects"][0]["anchored"] = true; }, "framed"},
   };
   for (const auto& [pointer, edit, part] : cases) {
@@ -469,7 +474,10 @@ TEST(SceneWindow, ErrorsPointAtTheFieldAndNameTheFix) {
       {"/generators/0/size/1", [](json& d) { d["generators"][0]["size"][1] = -1; }, "(0, 100]"},
       {"/generators/0/material", [](json& d) { d["generators"][0]["material"] = "brick"; },
        "breakable material"},
-      {"/generators/0/thickness", [](json& d) { d["generators"][0]["thickness"] = 0; }, "(0, 0.1]"},
+      {"/generators/0/thickness", [](json& d) { d["generators"][0]["thickness"] = 0; },
+       "[0.0001, 0.1]"},
+      {"/generators/0/thickness", [](json& d) { d["generators"][0]["thickness"] = 1e-200; },
+       "[0.0001, 0.1]"},
       {"/generators/0/frame_depth", [](json& d) { d["generators"][0]["frame_depth"] = 0.001; },
        "deeper"},
       {"/generators/0/fracture/framed",

@@ -18,24 +18,28 @@ namespace {
 using nlohmann::json;
 using Clock = std::chrono::steady_clock;
 
-json job_of(std::uint16_t port, const std::string& id, int wait_s = 0) {
-  const auto r = http_request(
-      port, "GET", "/v1/jobs/" + id + (wait_s > 0 ? "?wait=" + std::to_string(wait_s) : ""));
-  return json::parse(r.body);
-}
-
 std::string submit(std::uint16_t port, const json& scene, int priority = 0) {
   const auto r = http_request(port, "POST", "/v1/jobs", job_body(scene, priority));
   EXPECT_EQ(r.status, 202) << r.body;
   return json::parse(r.body).at("id");
 }
 
+// Long-polls with the ETag last seen, so a change between two polls answers at once: without
+// it a poll waits for a change after its own arrival and can miss a short "running" (seen under
+// load: the job went running while the first poll was answered, and the next waited for
+// "succeeded").
 json wait_status(std::uint16_t port, const std::string& id, std::string_view status,
                  std::chrono::seconds limit) {
   const auto deadline = Clock::now() + limit;
-  json job = job_of(port, id);
-  while (job.at("status") != status && Clock::now() < deadline)
-    job = job_of(port, id, 5);
+  ClientResponse r = http_request(port, "GET", "/v1/jobs/" + id);
+  json job = json::parse(r.body);
+  std::string etag = r.header("etag");
+  while (job.at("status") != status && Clock::now() < deadline) {
+    r = http_request(port, "GET", "/v1/jobs/" + id + "?wait=5", {}, {{"If-None-Match", etag}});
+    if (r.status == 304) continue;
+    job = json::parse(r.body);
+    etag = r.header("etag");
+  }
   return job;
 }
 

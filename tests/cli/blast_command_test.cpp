@@ -165,9 +165,9 @@ TEST(BlastCommand, ImpulsesUseTheExplosivesImpulseFactor) {
       run({"--charge-kg", "4", "--distance-m", "5", "--explosive", "c4", "--json"}));
   const auto one = nlohmann::json::parse(
       run({"--charge-kg", "4", "--distance-m", "5", "--tnt-factor", "1.37", "--json"}));
-  const auto two = nlohmann::json::parse(run({"--charge-kg", "4", "--distance-m", "5",
-                                              "--tnt-factor", "1.37", "--impulse-tnt-factor",
-                                              "1.19", "--json"}));
+  const auto two =
+      nlohmann::json::parse(run({"--charge-kg", "4", "--distance-m", "5", "--tnt-factor", "1.37",
+                                 "--impulse-tnt-factor", "1.19", "--json"}));
   EXPECT_DOUBLE_EQ(c4["inputs"]["impulse_tnt_factor"].get<double>(), 1.19);
   EXPECT_DOUBLE_EQ(c4["impulse_tnt_equivalent_kg"].get<double>(), 4.0 * 1.19);
   EXPECT_EQ(c4["incident_overpressure_kpa"], one["incident_overpressure_kpa"]);

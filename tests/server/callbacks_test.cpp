@@ -259,6 +259,19 @@ TEST(Callbacks, TheServersDefaultURLAndBadURLs) {
   }
 }
 
+// One job's callback to a TLS receiver at https://HOST:PORT/tls, with `ca_file` trusted (empty:
+// the system's CAs only), until the callback is `state`; the job as then shown.
+json https_callback(Receiver& receiver, const std::string& host, const std::string& ca_file,
+                    int max_attempts, std::string_view state) {
+  TestServerOptions options = with_callbacks(max_attempts);
+  options.callbacks->ca_file = ca_file;
+  TestServer server(options);
+  const std::string url = "https://" + host + ":" + std::to_string(receiver.port()) + "/tls";
+  const json job = wait_for_callback(server, submit_with_callback(server, url), state);
+  EXPECT_EQ(job.at("callback").at("state"), state) << job.dump();
+  return job;
+}
+
 // https: the receiver's certificate must chain to a trusted CA and name the host. Trusting the
 // test CA (--callback-ca) the delivery goes through, signed as over http; with the system's CAs
 // alone the handshake is refused, the attempt fails with the reason, and nothing is delivered.
@@ -267,26 +280,17 @@ TEST(Callbacks, HttpsDeliversToATrustedCertificateAndRefusesAnUntrustedOne) {
   std::ofstream(ca_file) << kTestCa;
   {
     Receiver receiver({}, true);
-    TestServerOptions options = with_callbacks(2);
-    options.callbacks->ca_file = ca_file;
-    TestServer server(options);
-    const std::string url = "https://127.0.0.1:" + std::to_string(receiver.port()) + "/tls";
-    const std::string id = submit_with_callback(server, url);
-    const json job = wait_for_callback(server, id, "delivered");
-    ASSERT_EQ(job.at("callback").at("state"), "delivered") << job.dump();
+    const json job = https_callback(receiver, "127.0.0.1", ca_file, 2, "delivered");
     ASSERT_EQ(receiver.requests().size(), 1u);
     EXPECT_EQ(receiver.requests()[0].target, "/tls");
     EXPECT_EQ(receiver.requests()[0].event, "job.finished");
-    EXPECT_EQ(json::parse(receiver.requests()[0].body).at("id"), id);
+    EXPECT_EQ(json::parse(receiver.requests()[0].body).at("id"), job.at("id"));
     EXPECT_EQ(receiver.refused_handshakes(), 0);
   }
   {
+    // The system's CAs, which do not include the test CA.
     Receiver receiver({}, true);
-    TestServer server(with_callbacks(2));  // the system's CAs, which do not include the test CA
-    const std::string url = "https://127.0.0.1:" + std::to_string(receiver.port()) + "/tls";
-    const std::string id = submit_with_callback(server, url);
-    const json job = wait_for_callback(server, id, "failed");
-    ASSERT_EQ(job.at("callback").at("state"), "failed") << job.dump();
+    const json job = https_callback(receiver, "127.0.0.1", "", 2, "failed");
     EXPECT_TRUE(receiver.requests().empty());
     EXPECT_EQ(receiver.refused_handshakes(), 2);
     const json& deliveries = job.at("callback").at("deliveries");
@@ -297,13 +301,7 @@ TEST(Callbacks, HttpsDeliversToATrustedCertificateAndRefusesAnUntrustedOne) {
   {
     // Trusted CA, wrong name: the certificate is for localhost and 127.0.0.1, not 127.0.0.2.
     Receiver receiver({}, true);
-    TestServerOptions options = with_callbacks(1);
-    options.callbacks->ca_file = ca_file;
-    TestServer server(options);
-    const std::string url = "https://127.0.0.2:" + std::to_string(receiver.port()) + "/tls";
-    const std::string id = submit_with_callback(server, url);
-    const json job = wait_for_callback(server, id, "failed");
-    ASSERT_EQ(job.at("callback").at("state"), "failed") << job.dump();
+    https_callback(receiver, "127.0.0.2", ca_file, 1, "failed");
     EXPECT_TRUE(receiver.requests().empty());
   }
   std::remove(ca_file.c_str());

@@ -105,13 +105,29 @@ std::vector<BlastQueryError> parse_blast_query(
   // beyond it their extrapolation underflows to an overpressure of 0 Pa, which the reflection
   // cannot take (distance_m=5.8e89 tripped its assert; found by fuzz_http).
   constexpr double kMaxScaledDistance = 1e6;  // m/kg^(1/3)
+  // A TNT equivalent that overflows (1e200 kg times a factor of 1e200) would give a scaled
+  // distance of 0, which the curves cannot take; the impulse equivalent is checked alike.
   if (problems.empty()) {
-    const double scaled = query.distance_m / std::cbrt(query.charge.tnt_equivalent_kg);
-    if (!(scaled <= kMaxScaledDistance))
-      fail("distance_m", "gives a scaled distance of " + shown(scaled) +
-                             " m/kg^(1/3), beyond the 1e+06 this calculator extrapolates to "
-                             "(its fits hold up to 40); move the point closer or use a larger "
-                             "charge");
+    for (const double w :
+         {query.charge.tnt_equivalent_kg, query.charge.impulse_tnt_equivalent_kg}) {
+      if (!std::isfinite(w)) {
+        fail("charge_kg", "times the TNT factor is not a finite mass (" + shown(w) +
+                              " kg of TNT); use a smaller charge or factor");
+        break;
+      }
+      const double scaled = query.distance_m / std::cbrt(w);
+      if (!(scaled > 0.0)) {
+        fail("distance_m", "is too small for the charge: its scaled distance underflows to 0");
+        break;
+      }
+      if (!(scaled <= kMaxScaledDistance)) {
+        fail("distance_m", "gives a scaled distance of " + shown(scaled) +
+                               " m/kg^(1/3), beyond the 1e+06 this calculator extrapolates to "
+                               "(its fits hold up to 40); move the point closer or use a larger "
+                               "charge");
+        break;
+      }
+    }
   }
   return problems;
 }

@@ -83,6 +83,12 @@ std::optional<ChargeSpec> parse_charge(const json& value, const std::string& poi
                          ") or an object {\"tnt_factor\": F}; got " + describe(*explosive));
     }
   }
+  // The blast curves take the TNT equivalent's cube root: it must be a finite mass.
+  if (!std::isfinite(charge.mass_kg * charge.tnt_factor) ||
+      !std::isfinite(charge.mass_kg * charge.impulse_tnt_factor))
+    errors.add(fields.at("mass"),
+               "times the explosive's TNT factor is not a finite mass of TNT; "
+               "use a smaller mass or factor");
   charge.burst = fields.choice("burst", blast::Burst::air, kBursts);
   charge.surface_model =
       fields.choice("burst_model", blast::SurfaceBurstModel::hemispherical, kSurfaceBurstModels);

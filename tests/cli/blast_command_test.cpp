@@ -210,6 +210,14 @@ TEST(BlastCommand, BadInputIsOneClearMessage) {
             std::string::npos);
   EXPECT_NE(usage_error({"--charge-kg", "1e-300", "--distance-m", "1"}).find("scaled distance"),
             std::string::npos);
+  // A TNT equivalent that overflows gave a scaled distance of 0, which the curves assert on.
+  EXPECT_NE(usage_error({"--charge-kg", "1e200", "--tnt-factor", "1e200", "--distance-m", "1"})
+                .find("not a finite mass"),
+            std::string::npos);
+  EXPECT_NE(usage_error({"--charge-kg", "1e200", "--tnt-factor", "1e-200", "--impulse-tnt-factor",
+                         "1e300", "--distance-m", "1"})
+                .find("not a finite mass"),
+            std::string::npos);
   EXPECT_NE(usage_error({"--distance-m", "5"}).find("--charge-kg is required"), std::string::npos);
   EXPECT_NE(usage_error({"--charge-kg", "-1", "--distance-m", "5"}).find("greater than 0"),
             std::string::npos);

@@ -88,6 +88,14 @@ TEST(SceneCharges, CustomTntFactor) {
   EXPECT_EQ(parse_ok(doc).charges[0].tnt_factor, 1.37);
   EXPECT_EQ(parse_ok(doc).charges[0].impulse_tnt_factor, 1.19);
 
+  // A TNT equivalent the curves cannot take: mass times factor overflows.
+  doc["charges"][0]["explosive"] = {{"tnt_factor", 1e200}};
+  doc["charges"][0]["mass"] = 1e200;
+  EXPECT_TRUE(contains(single_error(doc, "/charges/0/mass"), "not a finite mass")) << doc;
+  doc["charges"][0]["explosive"] = {{"tnt_factor", 1e-200}, {"impulse_tnt_factor", 1e300}};
+  EXPECT_TRUE(contains(single_error(doc, "/charges/0/mass"), "not a finite mass")) << doc;
+  doc["charges"][0]["mass"] = 1;
+
   doc["charges"][0]["explosive"] = {{"tnt_factor", 0}};
   single_error(doc, "/charges/0/explosive/tnt_factor");
   doc["charges"][0]["explosive"] = json::object();

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cassert>
+#include <cmath>
 
 namespace brisance::blast {
 
@@ -82,7 +83,8 @@ PressureHistory front_face_history(const PanelWave& wave, const PanelLoadOptions
   uncleared.add(reflected.piece());
   if (!options.clearing || options.clearing_distance_m <= 0.0) return uncleared;
 
-  const double clearing_time_s = 3.0 * options.clearing_distance_m / wave.shock_velocity_m_s;
+  const double clearing_time_s = 3.0 * options.clearing_distance_m / wave.shock_velocity_m_s +
+                                 std::max(options.clearing_delay_s, 0.0);
   const ExpPolyPiece side_on = incident.piece();
   const ExpPolyPiece drag =
       incident.squared_piece(drag_factor(wave, options) * wave.dynamic_pressure_pa);
@@ -95,6 +97,19 @@ PressureHistory front_face_history(const PanelWave& wave, const PanelLoadOptions
   add_ramped(cleared, side_on, clearing_time_s);
   add_ramped(cleared, drag, clearing_time_s);
   return cleared.total_impulse_pa_s() < reflected.total_impulse_pa_s() ? cleared : uncleared;
+}
+
+double clearing_delay_s(const Charge& charge, double h_m, double rho_m,
+                        double clearing_distance_m) {
+  if (clearing_distance_m <= 0.0) return 0.0;
+  const auto arrival = [&](double along_m) {
+    return blast_point(charge, std::max(std::hypot(h_m, along_m), 1e-3)).arrival_time_s;
+  };
+  // The edges S beyond the panel and S before it on the line from the charge's foot: the relief
+  // starts from whichever the wave reaches first.
+  const double edge = std::min(arrival(rho_m + clearing_distance_m),
+                               arrival(std::abs(rho_m - clearing_distance_m)));
+  return std::max(edge - arrival(rho_m), 0.0);
 }
 
 FaceKind face_kind(double cos_incidence) {

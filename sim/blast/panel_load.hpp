@@ -4,6 +4,7 @@
 // sum of its faces' loads: nothing here assumes which faces a body has.
 #pragma once
 
+#include "sim/blast/blast_point.hpp"
 #include "sim/blast/pulse.hpp"
 
 namespace brisance::blast {
@@ -28,6 +29,11 @@ struct PanelLoadOptions {
   // S: half the smaller dimension of the surface the panel lies in, m. A front face clears in
   // t_c = 3 S / U; a rear face fills in 3 S / U (thesis §2.6.4, "Rear Face").
   double clearing_distance_m = 0.0;
+  // How much later the wave reaches the edge the relief runs from than this panel, s. Relief
+  // starts at an edge only once the wave is there: a far charge's wave meets a face at once (0),
+  // a close charge's sweeps out across it from the point nearest the charge, and the panels it
+  // reaches first stay reflected that much longer. Added to t_c.
+  double clearing_delay_s = 0.0;
   // The panel's own extent, m: a side face's pressure rises while the wave crosses it.
   double panel_extent_m = 0.0;
   // C_D of eq. 2.32 for a front face; the front face of a block is about 1 (thesis §2.6.4).
@@ -53,7 +59,8 @@ PressureHistory side_on_history(const PanelWave& wave, PulseShape shape);
 // along the panel normal); q(t) = q_s (p_s(t) / P_so)^2.
 PressureHistory drag_history(const PanelWave& wave, const PanelLoadOptions& options);
 // Front-face overpressure. Without clearing: the reflected pulse (peak P_r, impulse i_r).
-// With clearing: the reflected pulse blends linearly over t_c = 3 S / U into the stagnation
+// With clearing: the reflected pulse blends linearly over t_c = 3 S / U (plus the clearing delay)
+// into the stagnation
 // pressure p_s(t) + C_D q(t) cos^2(alpha) (eqs. 2.30–2.31). As in UFC 3-340-02 §2-15.3, whichever
 // of the cleared and the uncleared curve carries less impulse is used.
 PressureHistory front_face_history(const PanelWave& wave, const PanelLoadOptions& options);
@@ -66,6 +73,16 @@ PressureHistory side_face_history(const PanelWave& wave, const PanelLoadOptions&
 // the body it wrapped around), p_s(t) + C_D q(t) with the rear drag coefficient, building up
 // linearly over 3 S / U as the wave closes in from the face's edges.
 PressureHistory rear_face_history(const PanelWave& wave, const PanelLoadOptions& options);
+// PanelLoadOptions::clearing_delay_s of a front panel h off its face's plane and rho along it
+// from the charge's foot on that plane, in a surface of clearing distance S: on the line from the
+// foot through the panel, the wave reaches the edges S beyond and S before the panel (at
+// hypot(h, rho + S) and hypot(h, |rho - S|) from the charge); the relief starts from whichever it
+// reaches first, and the delay is that arrival less the panel's (Kingery–Bulmash arrival times),
+// never negative. A far charge's wave is nearly planar over the face, and a panel the wave reaches
+// after an edge clears as the plane wave's: both give (nearly) 0; a charge close before the face
+// gives its middle a delay of the order of t_c.
+double clearing_delay_s(const Charge& charge, double h_m, double rho_m, double clearing_distance_m);
+
 // The history of one face kind.
 PressureHistory face_history(FaceKind kind, const PanelWave& wave, const PanelLoadOptions& options);
 

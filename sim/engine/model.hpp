@@ -136,6 +136,9 @@ struct EmbeddedAnchor {
 // Everything that does not change while stepping (STYLE.md §1), per body in body order.
 struct Model {
   std::vector<dynamics::BodyModel> bodies;
+  // Panels whose centre lies inside a charge (a TNT sphere of its equivalent mass): the scene put
+  // the charge into an object; counted for a warning.
+  std::uint64_t panels_inside_charges = 0;
   std::vector<dynamics::BodyState> initial_states;  // at rest, the scene's poses
   std::vector<Vec3> centre_of_mass;  // shape frame: from the shape's origin to the centre of mass
   std::vector<double> hold_force_n;  // mu N, N: own weight plus the weight resting on it

@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstddef>
+#include <numbers>
 
 #include "sim/engine/model.hpp"
 
@@ -147,6 +148,12 @@ void prepare_body(BodySource& source, double normal_force_n, bool standing, doub
 // does a rear face, and opposite faces of a body in a wall or on the ground balance.
 void prepare_events(const std::vector<BodySource>& sources, Model& model, Stats& stats,
                     Checkpoint& checkpoint) {
+  // The radius of each charge as a sphere of TNT (1 600 kg/m³; the Kingery–Bulmash curves begin
+  // near its surface, Z = 0.053).
+  std::vector<double> charge_radius_m;
+  for (const ChargeModel& charge : model.charges)
+    charge_radius_m.push_back(
+        std::cbrt(3.0 * charge.charge.tnt_equivalent_kg / (4.0 * std::numbers::pi * 1600.0)));
   for (std::uint32_t p = 0; p < model.panels.size(); ++p) {
     checkpoint.tick(1024);
     const PanelModel& panel = model.panels[p];
@@ -158,6 +165,7 @@ void prepare_events(const std::vector<BodySource>& sources, Model& model, Stats&
     for (std::uint32_t c = 0; c < model.charges.size(); ++c) {
       const Vec3 d = centre - model.charges[c].position;
       const double distance = std::max(d.norm(), 1e-3);
+      if (d.norm() < charge_radius_m[c]) ++model.panels_inside_charges;
       const blast::FaceKind kind = blast::face_kind(-normal.dot(d) / distance);
       if (panel.sheltered && kind != blast::FaceKind::front)
         continue;  // nothing reaches it from behind

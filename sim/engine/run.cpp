@@ -60,6 +60,10 @@ void Run::activate(const PanelEvent& event) {
   }
   blast::PanelLoadOptions options = model_.load_options;
   options.clearing_distance_m = panel.clearing_distance_m;
+  if (kind == blast::FaceKind::front && options.clearing)
+    options.clearing_delay_s =
+        blast::clearing_delay_s(charge.charge, std::abs(normal.dot(d)),
+                                (d - normal.dot(d) * normal).norm(), panel.clearing_distance_m);
   options.panel_extent_m = panel.extent_m;
   options.drag_coefficient = model_.bodies[panel.body].drag_coefficient;
   blast::PressureHistory history = blast::face_history(kind, wave, options);

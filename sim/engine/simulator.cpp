@@ -134,6 +134,13 @@ RunOutcome simulate(const scene::Scene& scene, const RunHooks& hooks, const RunB
   }
   outcome.times.prepare_s = seconds_since(prepare_start) - outcome.times.shielding_s;
   result.stats.bodies = model.bodies.size();
+  if (model.panels_inside_charges > 0)
+    warnings.add(
+        "charge_inside_object",
+        "a charge overlaps an object: its centre is closer to a load panel than its own "
+        "radius as a sphere of TNT; contact is the charge's surface touching the face, and "
+        "loads from inside an object are not modelled (see docs/blast-model.md)",
+        model.panels_inside_charges);
   if (!model.body_shielding.empty()) {
     const std::size_t bodies = model.bodies.size();
     for (std::uint32_t c = 0; c < model.charges.size(); ++c) {

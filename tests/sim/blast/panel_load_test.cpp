@@ -187,6 +187,53 @@ TEST(FrontFace, SlowClearingOfAHugeFaceFallsBackToTheReflectedPulse) {
   EXPECT_LE(front.total_impulse_pa_s(), wave.reflected_impulse_pa_s * (1 + 1e-9));
 }
 
+TEST(FrontFace, RelievedOnlyOnceTheWaveHasReachedTheEdge) {
+  // The clearing delay lengthens t_c: the face keeps more of its reflected impulse, never more
+  // than all of it, and the stagnation pressure still follows once the relief is through.
+  const PanelWave wave = typical_wave();
+  PanelLoadOptions options;
+  options.clearing_distance_m = 0.5;
+  const double prompt = front_face_history(wave, options).total_impulse_pa_s();
+  options.clearing_delay_s = 1e-3;
+  const PressureHistory delayed = front_face_history(wave, options);
+  EXPECT_GT(delayed.total_impulse_pa_s(), prompt);
+  EXPECT_LE(delayed.total_impulse_pa_s(), wave.reflected_impulse_pa_s * (1 + 1e-9));
+  const double t_c = 3.0 * 0.5 / wave.shock_velocity_m_s + 1e-3;
+  const PressureHistory side_on = side_on_history(wave, options.shape);
+  const PressureHistory drag = drag_history(wave, options);
+  EXPECT_NEAR(delayed.pressure_pa(1.01 * t_c),
+              side_on.pressure_pa(1.01 * t_c) + drag.pressure_pa(1.01 * t_c), 1e-6);
+}
+
+TEST(ClearingDelay, TheWavesSweepFromTheChargesFootToTheEdge) {
+  // Kingery–Bulmash arrival times: at the nearer (in time) of the edges S beyond and S before the
+  // panel, less at the panel. A far
+  // charge's wave is nearly planar over a face: the delay is a small part of t_c = 3 S / U
+  // (100 kg at 50 m, S = 0.5 m: 0.2 %); a close charge's sweeps out across it (at 0.5 m: 9 %).
+  Charge charge;
+  charge.tnt_equivalent_kg = 100.0;
+  const double s = 0.5;
+  const auto share_of_t_c = [&](double h, double rho) {
+    const double t_c = 3.0 * s / blast_point(charge, std::hypot(h, rho)).shock_velocity_m_s;
+    return clearing_delay_s(charge, h, rho, s) / t_c;
+  };
+  EXPECT_LT(share_of_t_c(50.0, 0.0), 0.005);
+  EXPECT_GT(share_of_t_c(0.5, 0.0), 0.05);
+  EXPECT_NEAR(clearing_delay_s(charge, 0.5, 0.0, s),
+              blast_point(charge, std::hypot(0.5, s)).arrival_time_s -
+                  blast_point(charge, 0.5).arrival_time_s,
+              1e-12);
+  // A panel the wave reaches after the edge before it (on the line from the charge's foot)
+  // clears from that edge as a plane wave's would: no delay. Between, the nearer of the two
+  // edges counts: at rho = S/4 the edge before, 3S/4 from the foot.
+  EXPECT_EQ(clearing_delay_s(charge, 0.5, 2.0, s), 0.0);
+  EXPECT_NEAR(clearing_delay_s(charge, 0.5, 0.25 * s, s),
+              blast_point(charge, std::hypot(0.5, 0.75 * s)).arrival_time_s -
+                  blast_point(charge, std::hypot(0.5, 0.25 * s)).arrival_time_s,
+              1e-12);
+  EXPECT_EQ(clearing_delay_s(charge, 0.5, 0.0, 0.0), 0.0);
+}
+
 TEST(DragLoading, FollowsEquation2_32AndTheNormalComponent) {
   PanelWave wave = typical_wave();
   PanelLoadOptions options;

@@ -4,6 +4,7 @@
 #include <cassert>
 #include <cmath>
 
+#include "sim/blast/reflection.hpp"
 #include "sim/response/plate.hpp"
 
 namespace brisance::engine {
@@ -36,6 +37,39 @@ fracture::PlateResponse pane_stress(const scene::FractureSpec& spec, const PaneS
   out.stress_pa = r.peak_stress_pa;
   out.deflection_m = r.peak_deflection_m;
   out.small_deflection = r.peak_deflection_m <= 0.5 * pane.thickness_m;
+  return out;
+}
+
+double pane_clearing_distance_m(const PaneSize& pane) {
+  return 0.5 * std::min(pane.width_m, pane.height_m);
+}
+
+PaneFaceLoad pane_face_load(const blast::Charge& charge, double distance_m, double cos_incidence,
+                            const blast::PanelLoadOptions& options) {
+  const blast::BlastPoint point = blast::blast_point(charge, distance_m);
+  const double cos_a = std::clamp(cos_incidence, 0.0, 1.0);
+  const blast::ObliqueReflection reflection = blast::oblique_reflection(
+      point.incident_overpressure_pa, point.incident_impulse_pa_s, point.reflected_overpressure_pa,
+      point.reflected_impulse_pa_s, std::acos(cos_a));
+  PaneFaceLoad out;
+  out.in_range = point.in_validity_range;
+  out.peak_pressure_pa = reflection.overpressure_pa;
+  out.component.arrival_s = point.arrival_time_s;
+  if (!(reflection.overpressure_pa > 0.0 && point.positive_duration_s > 0.0 &&
+        reflection.impulse_pa_s > 0.0 && point.incident_overpressure_pa > 0.0 &&
+        point.incident_impulse_pa_s > 0.0))
+    return out;  // no pulse: an empty history
+  // The wave as Run::activate builds it for a front face.
+  blast::PanelWave wave;
+  wave.incident_overpressure_pa = point.incident_overpressure_pa;
+  wave.incident_impulse_pa_s = point.incident_impulse_pa_s;
+  wave.positive_duration_s = point.positive_duration_s;
+  wave.shock_velocity_m_s = point.shock_velocity_m_s;
+  wave.dynamic_pressure_pa = point.dynamic_pressure_pa;
+  wave.cos_incidence = cos_a;
+  wave.reflected_overpressure_pa = reflection.overpressure_pa;
+  wave.reflected_impulse_pa_s = reflection.impulse_pa_s;
+  out.component.history = blast::front_face_history(wave, options);
   return out;
 }
 

@@ -30,6 +30,7 @@ fracture::PlateResponse pane_stress(const scene::FractureSpec& spec, const PaneS
   plate.small_deflection_beta = fracture::roark_beta(aspect);
   response::PlateSolveOptions options;
   options.load_scale = load_scale;
+  options.break_stress_pa = spec.strength_pa;
   const response::PlateSdofResult r =
       response::solve_plate(response::plate_model(plate), load.history, options);
   if (solver_warnings) *solver_warnings += r.warnings;
@@ -37,6 +38,8 @@ fracture::PlateResponse pane_stress(const scene::FractureSpec& spec, const PaneS
   out.stress_pa = r.peak_stress_pa;
   out.deflection_m = r.peak_deflection_m;
   out.small_deflection = r.peak_deflection_m <= 0.5 * pane.thickness_m;
+  out.break_time_s = r.break_time_s;
+  out.break_velocity_m_s = r.break_velocity_m_s;
   return out;
 }
 

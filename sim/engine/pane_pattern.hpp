@@ -27,10 +27,11 @@ struct PaneSize {
 };
 
 // The load on the pane's face: the largest peak pressure (what the static model takes) and the
-// summed pressure history, time since detonation (what the dynamic model integrates).
+// summed pressure history, time since clock_start_s (what the dynamic model integrates).
 struct PaneLoad {
   double peak_pressure_pa = 0.0;
   response::PressureLoad history;
+  double clock_start_s = 0.0;  // the history's time 0 after detonation (the first arrival), s
 };
 
 // The clearing distance S of a pane's front face: half its shorter side. The engine's fragments

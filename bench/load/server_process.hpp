@@ -8,21 +8,20 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <optional>
+#include <set>
 #include <sstream>
 #include <stdexcept>
 #include <string>
 #include <thread>
 #include <vector>
 
-#include <fcntl.h>
 #include <nlohmann/json.hpp>
 #include <signal.h>
-#include <spawn.h>
 #include <sys/resource.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
-extern char** environ;
+#include "tests/support/child_process.hpp"
 
 namespace brisance::load {
 
@@ -39,11 +38,8 @@ inline std::string read_file(const fs::path& path) {
 
 class ServerProcess {
  public:
-  ServerProcess(const std::string& binary, int workers, const std::string& store) {
-    char pattern[] = "/tmp/brisance-load-XXXXXX";
-    if (!mkdtemp(pattern)) throw std::runtime_error("cannot make a temporary directory");
-    dir_ = pattern;
-    log_ = dir_ / "server.log";
+  ServerProcess(const std::string& binary, int workers, const std::string& store)
+      : dir_(make_dir()), log_(dir_ / "server.log") {
     std::vector<std::string> args = {binary,        "serve",
                                      "--port",      "0",
                                      "--data",      (dir_ / "data").string(),
@@ -54,27 +50,16 @@ class ServerProcess {
     command_ = args[0];
     for (std::size_t i = 1; i < args.size(); ++i)
       command_ += " " + args[i];
-    std::vector<char*> argv;
-    for (auto& a : args)
-      argv.push_back(a.data());
-    argv.push_back(nullptr);
-    posix_spawn_file_actions_t actions;
-    posix_spawn_file_actions_init(&actions);
-    posix_spawn_file_actions_addopen(&actions, 2, log_.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    posix_spawn_file_actions_addopen(&actions, 1, "/dev/null", O_WRONLY, 0);
-    const int rc = posix_spawn(&pid_, argv[0], &actions, nullptr, argv.data(), environ);
-    posix_spawn_file_actions_destroy(&actions);
-    if (rc != 0) {
+    try {
+      process_.emplace(args, testing::log_to(log_));
+    } catch (...) {
       std::error_code ignored;
       fs::remove_all(dir_, ignored);
-      throw std::runtime_error("cannot start " + binary + ": " + std::strerror(rc));
+      throw;
     }
   }
   ~ServerProcess() {
-    if (pid_ > 0) {
-      kill(pid_, SIGKILL);
-      waitpid(pid_, nullptr, 0);
-    }
+    process_.reset();  // killed and reaped before its folder goes
     if (remove_dir_) {
       std::error_code ignored;
       fs::remove_all(dir_, ignored);
@@ -85,7 +70,7 @@ class ServerProcess {
 
   const std::string& command() const { return command_; }
   const fs::path& dir() const { return dir_; }
-  pid_t pid() const { return pid_; }
+  pid_t pid() const { return process_->pid(); }
   void keep_dir() { remove_dir_ = false; }
 
   std::string log() const { return read_file(log_); }
@@ -99,12 +84,7 @@ class ServerProcess {
   int wait_port(std::chrono::seconds limit) {
     const auto deadline = Clock::now() + limit;
     while (Clock::now() < deadline) {
-      std::istringstream lines(log());
-      std::string line;
-      while (std::getline(lines, line)) {
-        if (line.find("\"msg\":\"listening\"") == std::string::npos) continue;
-        return json::parse(line).at("port").get<int>();
-      }
+      if (const auto port = testing::listening_port(log())) return *port;
       if (const int port = listening_port_from_proc(); port > 0) return port;
       if (exited()) return 0;
       std::this_thread::sleep_for(std::chrono::milliseconds(20));
@@ -112,34 +92,26 @@ class ServerProcess {
     return 0;
   }
 
-  bool exited() {
-    if (pid_ <= 0) return true;
-    int status = 0;
-    if (waitpid(pid_, &status, WNOHANG) == pid_) {
-      exit_code_ = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-      pid_ = -1;
-      return true;
-    }
-    return false;
-  }
-  int exit_code() const { return exit_code_; }
+  bool exited() { return process_->exited(); }
+  int exit_code() const { return process_->exit_code(); }
 
   // SIGTERM, then the exit code; -1 if it had not exited within the limit (it is then killed).
   int terminate(std::chrono::seconds limit) {
-    if (pid_ > 0) kill(pid_, SIGTERM);
-    const auto deadline = Clock::now() + limit;
-    while (!exited()) {
-      if (Clock::now() > deadline) return -1;
-      std::this_thread::sleep_for(std::chrono::milliseconds(20));
-    }
-    return exit_code_;
+    process_->signal(SIGTERM);
+    return process_->wait_exit(limit);
   }
 
  private:
+  static fs::path make_dir() {
+    char pattern[] = "/tmp/brisance-load-XXXXXX";
+    if (!mkdtemp(pattern)) throw std::runtime_error("cannot make a temporary directory");
+    return pattern;
+  }
+
   int listening_port_from_proc() const {
     std::set<std::string> inodes;
     std::error_code ec;
-    for (const auto& entry : fs::directory_iterator("/proc/" + std::to_string(pid_) + "/fd", ec)) {
+    for (const auto& entry : fs::directory_iterator("/proc/" + std::to_string(pid()) + "/fd", ec)) {
       std::error_code link_ec;
       const std::string target = fs::read_symlink(entry.path(), link_ec).string();
       if (!link_ec && target.rfind("socket:[", 0) == 0) {
@@ -169,8 +141,7 @@ class ServerProcess {
   fs::path dir_;
   fs::path log_;
   std::string command_;
-  pid_t pid_ = -1;
-  int exit_code_ = -1;
+  std::optional<testing::ChildProcess> process_;
   bool remove_dir_ = true;
 };
 

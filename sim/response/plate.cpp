@@ -10,7 +10,6 @@
 #include "sim/response/plate.hpp"
 
 #include <algorithm>
-#include <array>
 #include <cassert>
 #include <cmath>
 #include <numbers>
@@ -24,43 +23,6 @@ namespace brisance::response {
 namespace {
 
 constexpr double kPi = std::numbers::pi;
-
-struct FactorPair {
-  double load = 1.0;
-  double mass = 1.0;
-};
-
-FactorPair factors_named(const char* name) {
-  const auto f = find_factors(name, ResponseRange::elastic);
-  assert(f);
-  return {f->load, f->mass};
-}
-
-// Biggs 1964 table 5.3 (elastic, simply supported two-way slab), linear in b/a between its rows
-// 0.5 ... 1.0; below 0.5 towards the one-way simply supported strip of table 5.1 at b/a = 0.
-FactorPair two_way_factors(double short_over_long) {
-  struct Row {
-    double ratio;
-    const char* name;
-  };
-  constexpr std::array<Row, 7> rows = {{{0.0, "one_way_simply_supported"},
-                                        {0.5, "two_way_simply_supported_0.5"},
-                                        {0.6, "two_way_simply_supported_0.6"},
-                                        {0.7, "two_way_simply_supported_0.7"},
-                                        {0.8, "two_way_simply_supported_0.8"},
-                                        {0.9, "two_way_simply_supported_0.9"},
-                                        {1.0, "two_way_simply_supported_1.0"}}};
-  const double r = std::clamp(short_over_long, 0.0, 1.0);
-  for (std::size_t i = 1; i < rows.size(); ++i) {
-    if (r <= rows[i].ratio) {
-      const FactorPair lo = factors_named(rows[i - 1].name);
-      const FactorPair hi = factors_named(rows[i].name);
-      const double s = (r - rows[i - 1].ratio) / (rows[i].ratio - rows[i - 1].ratio);
-      return {lo.load + s * (hi.load - lo.load), lo.mass + s * (hi.mass - lo.mass)};
-    }
-  }
-  return factors_named(rows.back().name);
-}
 
 // The kinks of the load: arrivals and the windows of every piece, sorted, within [from, to].
 std::vector<double> load_breakpoints(const PressureLoad& load, double from_s, double to_s) {
@@ -187,7 +149,8 @@ PlateModel plate_model(const PlateSpec& spec) {
   PlateModel m;
   m.area_m2 = a * b;
   m.mass_kg = spec.density_kg_m3 * a * b * t;
-  const FactorPair f = two_way_factors(b / a);
+  // Elastic factors of the plate's static shape (Navier series; at b/a -> 0 the one-way strip).
+  const ShapeFactors f = two_way_simply_supported_elastic(b / a);
   m.load_factor = f.load;
   m.mass_factor = f.mass;
   m.linear_stiffness_n_per_m =

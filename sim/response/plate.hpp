@@ -23,9 +23,9 @@
 // one-term solution's mid-surface stress at the centre (its Airy function plus the edge tension
 // that holds the edges).
 // Equivalent system (Biggs 1964 ch. 5, sim/response/factors): K_M m w'' + K_L R(w) = K_L A p(t),
-// with the elastic two-way factors of Biggs table 5.3 interpolated in b/a (below b/a = 0.5 towards
-// the one-way strip of table 5.1). One set of factors throughout: the mode shape's change under
-// membrane action is not modelled.
+// with the elastic factors of the plate's static deflected shape at its own b/a (Navier series,
+// factors.hpp; towards the one-way strip as b/a -> 0). One set of factors throughout: the mode
+// shape's change under membrane action is not modelled.
 #pragma once
 
 #include <cmath>

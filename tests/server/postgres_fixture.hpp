@@ -18,19 +18,16 @@
 #include <thread>
 #include <vector>
 
-#include <fcntl.h>
 #include <netinet/in.h>
 #include <pwd.h>
 #include <signal.h>
-#include <spawn.h>
 #include <sys/socket.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include "server/pg.hpp"
 #include "tests/server/temp_dir.hpp"
-
-extern char** environ;
+#include "tests/support/child_process.hpp"
 
 namespace brisance::testing {
 
@@ -166,21 +163,12 @@ class PostgresServer {
   // Runs `args` (as nobody when root) with stdout and stderr to `log`, cwd the temp folder.
   pid_t spawn(std::vector<std::string> args, const std::filesystem::path& log) {
     args.insert(args.begin(), as_user_.begin(), as_user_.end());
-    std::vector<char*> argv;
-    for (auto& a : args)
-      argv.push_back(a.data());
-    argv.push_back(nullptr);
-    posix_spawn_file_actions_t actions;
-    posix_spawn_file_actions_init(&actions);
-    posix_spawn_file_actions_addopen(&actions, 1, log.c_str(), O_WRONLY | O_CREAT | O_APPEND, 0666);
-    posix_spawn_file_actions_adddup2(&actions, 1, 2);
-    posix_spawn_file_actions_addopen(&actions, 0, "/dev/null", O_RDONLY, 0);
-    posix_spawn_file_actions_addchdir_np(&actions, dir_.path().c_str());
-    pid_t pid = 0;
-    const int rc = posix_spawn(&pid, argv[0], &actions, nullptr, argv.data(), environ);
-    posix_spawn_file_actions_destroy(&actions);
-    if (rc != 0) throw std::runtime_error("cannot start " + args.front());
-    return pid;
+    SpawnOptions options;
+    options.stdout_path = log;
+    options.append = true;
+    options.stdin_null = true;
+    options.working_dir = dir_.path();
+    return spawn_process(std::move(args), options);
   }
 
   int run_and_wait(std::vector<std::string> args, const std::filesystem::path& log) {

@@ -24,8 +24,8 @@ namespace {
 constexpr std::string_view kHelp =
     "usage: brisance fracture --width W --height H [--thickness T]\n"
     "                         [--pressure-kpa P | --growth-length A_C] [--duration-ms D]\n"
-    "                         [--impulse-kpa-ms I] [--breakage dynamic|static] [--branch-angle-deg "
-    "A]\n"
+    "                         [--impulse-kpa-ms I] [--charge-kg M --distance-m R]\n"
+    "                         [--breakage dynamic|static] [--branch-angle-deg A]\n"
     "                         [--angle-variance-deg V] [--wiggle-prob P] [--wiggle-deg D]\n"
     "                         [--grid N] [--initial-crack L] [--seed S]\n"
     "                         -o pattern.svg|pattern.json\n"
@@ -45,8 +45,14 @@ constexpr std::string_view kHelp =
     "                           model (fracture.breakage \"dynamic\", the default) needs the "
     "pulse,\n"
     "                           not only its peak ('brisance blast' gives all three numbers)\n"
-    "  --impulse-kpa-ms I       its impulse, kPa ms: a Friedlander pulse fitted to it (what a job\n"
-    "                           uses); without it a triangle of duration D\n"
+    "  --impulse-kpa-ms I       its impulse, kPa ms: a Friedlander pulse fitted to it; without it\n"
+    "                           a triangle of duration D. These pulses are not cleared: a job\n"
+    "                           with simulation.clearing false loads its pane this way\n"
+    "  --charge-kg M, --distance-m R\n"
+    "                           instead of the pulse flags: M kg of TNT in the air R m in front\n"
+    "                           of the pane (head-on), and the pane's front face loaded as a job\n"
+    "                           loads it: the reflected Friedlander pulse cleared from the pane's\n"
+    "                           edges (S = half its shorter side, C_D 1) over 3 S / U\n"
     "  --breakage MODEL         dynamic (default: large-deflection plate SDOF under the pulse) or\n"
     "                           static (Roark's small-deflection stress under the peak pressure)\n"
     "  --growth-length A_C      crack growth between forks, m, instead (fracture.growth_length)\n"
@@ -143,6 +149,28 @@ Plan parse(const ParsedFlags& flags) {
     if (!flags.has("pressure-kpa"))
       flags.fail("--impulse-kpa-ms needs --pressure-kpa (the pulse's peak)");
   }
+  // A charge instead of a pulse: the job's cleared front-face history (pane_face_load).
+  std::optional<blast::Charge> charge;
+  double charge_distance_m = 0.0;
+  if (flags.has("charge-kg") || flags.has("distance-m")) {
+    if (!flags.has("charge-kg") || !flags.has("distance-m"))
+      flags.fail("--charge-kg and --distance-m go together");
+    for (const char* pulse_flag :
+         {"pressure-kpa", "duration-ms", "impulse-kpa-ms", "growth-length"})
+      if (flags.has(pulse_flag))
+        flags.fail("give --charge-kg and --distance-m or --" + std::string(pulse_flag) +
+                   ", not both");
+    const double kg = flag_number(flags, "charge-kg", 0.0);
+    charge_distance_m = flag_number(flags, "distance-m", 0.0);
+    if (!(kg > 0.0) || !(kg <= 1e6))
+      flags.fail(text::printf("--charge-kg must be greater than 0 and at most 1e6, got %g", kg));
+    if (!(charge_distance_m > 0.0) || !(charge_distance_m <= 1e4))
+      flags.fail(text::printf("--distance-m must be greater than 0 and at most 10000, got %g",
+                              charge_distance_m));
+    charge = blast::Charge{};
+    charge->tnt_equivalent_kg = kg;
+    charge->impulse_tnt_equivalent_kg = kg;
+  }
   std::uint64_t seed = 1;
   if (const auto text = flags.value("seed")) {
     const char* end = text->data() + text->size();
@@ -160,8 +188,8 @@ Plan parse(const ParsedFlags& flags) {
   // The dynamic model needs the pulse, not only its peak; a given growth length needs no stress
   // (the one reported is then the static one). Reported after the other flags are checked.
   const bool missing_pulse = spec.breakage == scene::FractureSpec::Breakage::dynamic &&
-                             !duration_s && !flags.has("growth-length");
-  if (!duration_s) spec.breakage = scene::FractureSpec::Breakage::static_plate;
+                             !duration_s && !charge && !flags.has("growth-length");
+  if (!duration_s && !charge) spec.breakage = scene::FractureSpec::Breakage::static_plate;
   plan.dynamic = spec.breakage == scene::FractureSpec::Breakage::dynamic;
   const auto load_at = [&](double peak_pa) {
     engine::PaneLoad load;
@@ -175,12 +203,27 @@ Plan parse(const ParsedFlags& flags) {
     return load;
   };
   const engine::PaneSize pane{width, height, plan.thickness_m, 2500.0};  // annealed glass
-  if (!plan.pressure_given) {
+  if (charge) {
+    // The scene's defaults: Friedlander pulse, clearing on, C_D 1, the pane's own edges.
+    blast::PanelLoadOptions options;
+    options.clearing_distance_m = engine::pane_clearing_distance_m(pane);
+    const engine::PaneFaceLoad face =
+        engine::pane_face_load(*charge, charge_distance_m, 1.0, options);
+    engine::PaneLoad load;
+    load.peak_pressure_pa = face.peak_pressure_pa;
+    if (face.component.history.size() > 0) {
+      load.history.components.push_back(face.component);
+      load.history.components.back().arrival_s = 0.0;  // the pane's clock, as a job's
+    }
+    plan.pressure_pa = load.peak_pressure_pa;
+    plan.pressure_given = true;
+    plan.pattern = engine::pane_pattern(spec, pane, load, seed);
+  } else if (!plan.pressure_given) {
     scene::FractureSpec by_stress = spec;
     by_stress.trigger = scene::FractureSpec::Trigger::automatic;
     plan.pressure_pa = engine::breaking_pressure_pa(by_stress, pane, load_at(1e3));
   }
-  plan.pattern = engine::pane_pattern(spec, pane, load_at(plan.pressure_pa), seed);
+  if (!charge) plan.pattern = engine::pane_pattern(spec, pane, load_at(plan.pressure_pa), seed);
   fracture::FractureParams& p = plan.pattern.params;
   p.initial.length_m = flag_number(flags, "initial-crack", p.initial.length_m);
   if (const auto problem = fracture::validate(p)) flags.fail(*problem);
@@ -259,6 +302,8 @@ int run_fracture(const Args& args, std::ostream& out) {
                            {"pressure-kpa"},
                            {"duration-ms"},
                            {"impulse-kpa-ms"},
+                           {"charge-kg"},
+                           {"distance-m"},
                            {"breakage"},
                            {"seed"},
                            {"output", true, "o"},

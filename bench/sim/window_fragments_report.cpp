@@ -51,6 +51,8 @@ struct Row {
   double bound_speed;
   double empirical_speed;
   double larger_half;
+  double spread;     // p90 / p10 of the launch speeds
+  double mass_mean;  // momentum / mass of the released fragments along -z, no drag, no gravity
   double smaller_half;
 };
 
@@ -94,7 +96,7 @@ int main(int argc, char** argv) {
       row.thickness_mm = c.thickness_m * 1e3;
       row.charge_kg = c.charge_kg;
       row.clearing = clearing == FractureSpec::Clearing::fragment ? "fragment" : "pane";
-      std::vector<double> counts, areas, speeds, larger, smaller;
+      std::vector<double> counts, areas, speeds, larger, smaller, spreads, mass_means;
       for (int seed = 1; seed <= seeds; ++seed) {
         brisance::scene::Scene scene = *parsed.scene;
         scene.charges[0].mass_kg = c.charge_kg;
@@ -124,12 +126,33 @@ int main(int argc, char** argv) {
         speeds.push_back(pane.launch_speed_m_s.mean);
         larger.push_back(pane.launch_speed_larger_half_m_s);
         smaller.push_back(pane.launch_speed_smaller_half_m_s);
+        spreads.push_back(pane.launch_speed_m_s.p10 > 0.0
+                              ? pane.launch_speed_m_s.p90 / pane.launch_speed_m_s.p10
+                              : 0.0);
+        // The momentum the released fragments carry per mass, without flight drag or gravity
+        // (what the momentum bound bounds; the mean above counts every fragment once).
+        brisance::scene::Scene still = scene;
+        still.environment.air_density_kg_m3 = 0.0;
+        still.environment.gravity_m_s2.setZero();
+        const auto free_flight = brisance::engine::simulate(still).result;
+        const PaneReport& still_pane = free_flight.fracture.at(0);
+        double momentum = 0.0, mass = 0.0;
+        for (std::size_t k = 0; k < still_pane.fragment_count; ++k) {
+          if (still_pane.release_times_s[k] < 0.0) continue;
+          const std::size_t b = still_pane.first_body + k;
+          momentum -=
+              free_flight.bodies[b].mass_kg * free_flight.final_state[b].linear_velocity_m_s[2];
+          mass += free_flight.bodies[b].mass_kg;
+        }
+        mass_means.push_back(mass > 0.0 ? momentum / mass : 0.0);
       }
       row.fragments = median(counts);
       row.area_cm2 = median(areas);
       row.speed = median(speeds);
       row.larger_half = median(larger);
       row.smaller_half = median(smaller);
+      row.spread = median(spreads);
+      row.mass_mean = median(mass_means);
       rows.push_back(row);
     }
   }
@@ -143,18 +166,18 @@ int main(int argc, char** argv) {
   table << line;
   table << "h_mm charge_kg clearing  P_r_kPa stress_MPa a_c_um growth_mm fragments "
            "area_cm2 eq2.45_cm2 ratio  speed_m_s bound_m_s ratio eq2.46_m_s ratio "
-           "eq2.46_ft_s ratio larger_half small_half\n";
+           "eq2.46_ft_s ratio larger_half small_half p90/p10 mass_mean ratio\n";
   constexpr double kFoot = 0.3048;  // eq. 2.46 read as giving ft/s
   for (const Row& r : rows) {
     std::snprintf(line, sizeof line,
                   "%4.0f %9.2f %-9s %7.1f %10.0f %6.3f %8.2f%s %9.0f %8.2f %10.3f %6.1f %9.2f "
-                  "%9.2f %5.2f %10.1f %5.3f %11.1f %5.3f %11.2f %10.2f\n",
+                  "%9.2f %5.2f %10.1f %5.3f %11.1f %5.3f %11.2f %10.2f %7.2f %9.2f %5.2f\n",
                   r.thickness_mm, r.charge_kg, r.clearing, r.pressure_kpa, r.stress_mpa,
                   r.critical_um, r.growth_mm, r.clamped ? "*" : " ", r.fragments, r.area_cm2,
                   r.empirical_area_cm2, r.area_cm2 / r.empirical_area_cm2, r.speed, r.bound_speed,
                   r.speed / r.bound_speed, r.empirical_speed, r.speed / r.empirical_speed,
                   kFoot * r.empirical_speed, r.speed / (kFoot * r.empirical_speed), r.larger_half,
-                  r.smaller_half);
+                  r.smaller_half, r.spread, r.mass_mean, r.mass_mean / r.bound_speed);
     table << line;
   }
   table << "(* growth length clamped at two bit-bucket cells: pressure no longer refines the "
@@ -168,14 +191,14 @@ int main(int argc, char** argv) {
   csv << "thickness_mm,charge_kg,clearing,peak_pressure_kpa,stress_mpa,critical_crack_length_um,"
          "growth_length_mm,growth_length_clamped,fragments,mean_area_cm2,eq245_area_cm2,"
          "mean_speed_m_s,momentum_bound_m_s,eq246_speed_m_s,speed_larger_half_m_s,"
-         "speed_smaller_half_m_s\n";
+         "speed_smaller_half_m_s,speed_p90_over_p10,mass_weighted_speed_m_s\n";
   for (const Row& r : rows) {
-    std::snprintf(line, sizeof line,
-                  "%g,%g,%s,%.4g,%.4g,%.4g,%.4g,%d,%g,%.4g,%.4g,%.4g,%.4g,%.4g,%.4g,%.4g\n",
-                  r.thickness_mm, r.charge_kg, r.clearing, r.pressure_kpa, r.stress_mpa,
-                  r.critical_um, r.growth_mm, r.clamped ? 1 : 0, r.fragments, r.area_cm2,
-                  r.empirical_area_cm2, r.speed, r.bound_speed, r.empirical_speed, r.larger_half,
-                  r.smaller_half);
+    std::snprintf(
+        line, sizeof line,
+        "%g,%g,%s,%.4g,%.4g,%.4g,%.4g,%d,%g,%.4g,%.4g,%.4g,%.4g,%.4g,%.4g,%.4g,%.4g,%.4g\n",
+        r.thickness_mm, r.charge_kg, r.clearing, r.pressure_kpa, r.stress_mpa, r.critical_um,
+        r.growth_mm, r.clamped ? 1 : 0, r.fragments, r.area_cm2, r.empirical_area_cm2, r.speed,
+        r.bound_speed, r.empirical_speed, r.larger_half, r.smaller_half, r.spread, r.mass_mean);
     csv << line;
   }
   return 0;

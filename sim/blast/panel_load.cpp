@@ -149,4 +149,22 @@ PressureHistory face_history(FaceKind kind, const PanelWave& wave,
   return front_face_history(wave, options);
 }
 
+double BlastWind::velocity_m_s(double t_s) const {
+  const double since = t_s - arrival_s;
+  if (!(since >= 0.0) || !(since < incident.duration_s) || incident.peak_pa <= 0.0) return 0.0;
+  return peak_velocity_m_s * std::max(0.0, incident.pressure_pa(since)) / incident.peak_pa;
+}
+
+BlastWind blast_wind(const BlastPoint& point, PulseShape shape, const Ambient& air) {
+  BlastWind wind;
+  wind.arrival_s = point.arrival_time_s;
+  if (!(point.incident_overpressure_pa > 0.0 && point.positive_duration_s > 0.0 &&
+        point.incident_impulse_pa_s > 0.0))
+    return wind;
+  wind.peak_velocity_m_s = rh_particle_velocity_m_s(point.incident_overpressure_pa, air);
+  wind.incident = make_pulse(shape, point.incident_overpressure_pa, point.positive_duration_s,
+                             point.incident_impulse_pa_s);
+  return wind;
+}
+
 }  // namespace brisance::blast

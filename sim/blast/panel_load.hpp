@@ -4,6 +4,7 @@
 // sum of its faces' loads: nothing here assumes which faces a body has.
 #pragma once
 
+#include "sim/blast/air.hpp"
 #include "sim/blast/blast_point.hpp"
 #include "sim/blast/pulse.hpp"
 
@@ -85,5 +86,22 @@ double clearing_delay_s(const Charge& charge, double h_m, double rho_m, double c
 
 // The history of one face kind.
 PressureHistory face_history(FaceKind kind, const PanelWave& wave, const PanelLoadOptions& options);
+
+// The blast wind at a point: the air behind the front moves away from the charge with the
+// particle velocity of the Rankine–Hugoniot relations (rh_particle_velocity_m_s; for gamma = 1.4
+// u_s = (5 P_so / (7 p0)) a0 / sqrt(1 + 6 P_so / (7 p0)), as in G. F. Kinney & K. J. Graham,
+// Explosive Shocks in Air, 2nd ed., Springer 1985), decaying over the positive phase as the
+// overpressure does, u(t) = u_s p_s(t) / P_so: the decay the drag loads' dynamic pressure
+// q(t) = q_s (p_s(t) / P_so)^2 is built from (q = rho u^2 / 2). Zero before the arrival and after
+// the positive phase. Times since detonation.
+struct BlastWind {
+  double arrival_s = 0.0;
+  double peak_velocity_m_s = 0.0;  // u_s
+  Pulse incident;                  // p_s(t), time since arrival
+
+  double velocity_m_s(double t_s) const;
+  double end_s() const { return arrival_s + incident.duration_s; }
+};
+BlastWind blast_wind(const BlastPoint& point, PulseShape shape, const Ambient& air = {});
 
 }  // namespace brisance::blast

@@ -130,19 +130,26 @@ Vec3 free_rotation_substeps(const BodyModel& model, const Mat3& rotation, BodySt
   return turned;
 }
 
-// Quadratic drag along the velocity, integrated exactly for straight-line motion:
-// dv/dt = -k v^2 gives v(dt) = v / (1 + k v dt), stable for any step (thesis eq. 3.2).
-// `rotation` is the body's orientation as a matrix (shared with the rotation step).
+// Quadratic drag along the velocity relative to the air, integrated exactly for straight-line
+// relative motion in air moving at a constant velocity w over the step: dr/dt = -k |r| r for
+// r = v - w gives r(dt) = r / (1 + k |r| dt), stable for any step (thesis eq. 3.2 in the air's
+// frame). The body approaches the air's velocity and never passes it. `rotation` is the body's
+// orientation as a matrix (shared with the rotation step).
 void apply_drag(const BodyModel& model, const Mat3& rotation, BodyState& state,
-                const WorldSettings& world, double dt) {
+                const WorldSettings& world, double dt, const Vec3& air_velocity) {
   if (world.air_density_kg_m3 <= 0.0) return;
-  const double speed = state.velocity.norm();
+  const Vec3 relative = state.velocity - air_velocity;
+  const double speed = relative.norm();
   if (speed <= 0.0) return;
-  const Vec3 direction_body = rotation.transpose().lazyProduct(state.velocity * (1.0 / speed));
+  const Vec3 direction_body = rotation.transpose().lazyProduct(relative * (1.0 / speed));
   const double area = model.drag_shape.projected_area_m2(direction_body);
   const double k =
       0.5 * world.air_density_kg_m3 * model.drag_coefficient * area * model.inverse_mass;
-  state.velocity *= 1.0 / (1.0 + k * speed * dt);
+  if (air_velocity.isZero(0.0)) {
+    state.velocity *= 1.0 / (1.0 + k * speed * dt);  // still air, as always
+    return;
+  }
+  state.velocity = air_velocity + relative * (1.0 / (1.0 + k * speed * dt));
 }
 
 // Returns the angular velocity the step turned the body with (world frame).
@@ -251,7 +258,7 @@ double kinetic_energy(const BodyModel& model, const BodyState& state) {
 }
 
 Vec3 integrate(const BodyModel& model, BodyState& state, const StepLoads& loads,
-               const WorldSettings& world, double dt) {
+               const WorldSettings& world, double dt, const Vec3& air_velocity) {
   assert(dt > 0.0);
   const Vec3 velocity_change = loads.impulse * model.inverse_mass + world.gravity_m_s2 * dt;
   const Mat3 rotation = state.orientation.toRotationMatrix();  // at the start of the step
@@ -261,13 +268,13 @@ Vec3 integrate(const BodyModel& model, BodyState& state, const StepLoads& loads,
       // from the average of the old and new velocities.
       const Vec3 start_velocity = state.velocity;
       state.velocity += velocity_change;
-      apply_drag(model, rotation, state, world, dt);
+      apply_drag(model, rotation, state, world, dt, air_velocity);
       state.position += 0.5 * (start_velocity + state.velocity) * dt;
       break;
     }
     case Integrator::semi_implicit_euler:
       state.velocity += velocity_change;
-      apply_drag(model, rotation, state, world, dt);
+      apply_drag(model, rotation, state, world, dt, air_velocity);
       state.position += state.velocity * dt;
       break;
     case Integrator::rk4:
@@ -275,7 +282,7 @@ Vec3 integrate(const BodyModel& model, BodyState& state, const StepLoads& loads,
       state.position += state.velocity * dt + 0.5 * world.gravity_m_s2 * dt * dt +
                         loads.impulse_moment * model.inverse_mass;
       state.velocity += velocity_change;
-      apply_drag(model, rotation, state, world, dt);
+      apply_drag(model, rotation, state, world, dt, air_velocity);
       break;
   }
   if (world.linear_damping_per_s > 0.0)

@@ -95,8 +95,10 @@ Vec3 angular_velocity(const BodyModel& model, const BodyState& state);
 double kinetic_energy(const BodyModel& model, const BodyState& state);
 
 // Advances one free body by dt; returns the angular velocity it turned with (world frame), an
-// estimate of the current one that costs nothing extra.
+// estimate of the current one that costs nothing extra. Flight drag acts on the velocity
+// relative to the air, which moves with air_velocity over the step (the blast wind; still air:
+// zero, which gives the still-air drag exactly).
 Vec3 integrate(const BodyModel& model, BodyState& state, const StepLoads& loads,
-               const WorldSettings& world, double dt);
+               const WorldSettings& world, double dt, const Vec3& air_velocity = Vec3::Zero());
 
 }  // namespace brisance::dynamics

@@ -64,6 +64,11 @@ struct BodySource {
   // none: friction on what the body rests on.
   std::optional<double> breakaway_hold_n;
   double release_not_before_s = 0.0;  // a fragment: the first wave at its centroid, s
+  // A fragment of a pane the dynamic plate broke (docs/fracture.md, "Launch"): the velocity
+  // added when it breaks free (world, m/s), which shares the impulse the pane took before it
+  // cracked through out as the plate's mode shape, not per area. Sums to no momentum over
+  // the pane's fragments.
+  Vec3 release_velocity_m_s = Vec3::Zero();
   // Fragments of a broken pane: their clearing distance is their pane's choice, never shared
   // with their coplanar neighbours; their release and launch are reported.
   bool fragment = false;
@@ -157,6 +162,8 @@ struct Model {
   // may break free (the wave's arrival at its centroid; 0 for others).
   std::vector<std::uint8_t> fragment;
   std::vector<double> release_not_before_s;
+  // Per body: the velocity a fragment gains when it breaks free (BodySource; 0 for others).
+  std::vector<Vec3> release_velocity_m_s;
   std::vector<PanelModel> panels;
   std::vector<ChargeModel> charges;
   std::vector<PanelEvent> events;  // ascending arrival time

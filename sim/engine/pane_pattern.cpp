@@ -4,6 +4,7 @@
 #include <cassert>
 #include <cmath>
 
+#include "sim/blast/reflection.hpp"
 #include "sim/response/plate.hpp"
 
 namespace brisance::engine {
@@ -29,6 +30,7 @@ fracture::PlateResponse pane_stress(const scene::FractureSpec& spec, const PaneS
   plate.small_deflection_beta = fracture::roark_beta(aspect);
   response::PlateSolveOptions options;
   options.load_scale = load_scale;
+  options.break_stress_pa = spec.strength_pa;
   const response::PlateSdofResult r =
       response::solve_plate(response::plate_model(plate), load.history, options);
   if (solver_warnings) *solver_warnings += r.warnings;
@@ -36,6 +38,47 @@ fracture::PlateResponse pane_stress(const scene::FractureSpec& spec, const PaneS
   out.stress_pa = r.peak_stress_pa;
   out.deflection_m = r.peak_deflection_m;
   out.small_deflection = r.peak_deflection_m <= 0.5 * pane.thickness_m;
+  out.break_time_s = r.break_time_s;
+  out.break_velocity_m_s = r.break_velocity_m_s;
+  return out;
+}
+
+double pane_clearing_distance_m(const PaneSize& pane) {
+  return 0.5 * std::min(pane.width_m, pane.height_m);
+}
+
+PaneFaceLoad pane_face_load(const blast::Charge& charge, double distance_m, double cos_incidence,
+                            const blast::PanelLoadOptions& options) {
+  const blast::BlastPoint point = blast::blast_point(charge, distance_m);
+  const double cos_a = std::clamp(cos_incidence, 0.0, 1.0);
+  const blast::ObliqueReflection reflection = blast::oblique_reflection(
+      point.incident_overpressure_pa, point.incident_impulse_pa_s, point.reflected_overpressure_pa,
+      point.reflected_impulse_pa_s, std::acos(cos_a));
+  PaneFaceLoad out;
+  out.in_range = point.in_validity_range;
+  out.peak_pressure_pa = reflection.overpressure_pa;
+  out.component.arrival_s = point.arrival_time_s;
+  if (!(reflection.overpressure_pa > 0.0 && point.positive_duration_s > 0.0 &&
+        reflection.impulse_pa_s > 0.0 && point.incident_overpressure_pa > 0.0 &&
+        point.incident_impulse_pa_s > 0.0))
+    return out;  // no pulse: an empty history
+  // The wave as Run::activate builds it for a front face.
+  blast::PanelWave wave;
+  wave.incident_overpressure_pa = point.incident_overpressure_pa;
+  wave.incident_impulse_pa_s = point.incident_impulse_pa_s;
+  wave.positive_duration_s = point.positive_duration_s;
+  wave.shock_velocity_m_s = point.shock_velocity_m_s;
+  wave.dynamic_pressure_pa = point.dynamic_pressure_pa;
+  wave.cos_incidence = cos_a;
+  wave.reflected_overpressure_pa = reflection.overpressure_pa;
+  wave.reflected_impulse_pa_s = reflection.impulse_pa_s;
+  // The relief waits for the wave at the pane's edges, as Run::activate has it for a front panel.
+  blast::PanelLoadOptions cleared = options;
+  if (cleared.clearing)
+    cleared.clearing_delay_s = blast::clearing_delay_s(
+        charge, distance_m * cos_a, distance_m * std::sqrt(std::max(0.0, 1.0 - cos_a * cos_a)),
+        cleared.clearing_distance_m);
+  out.component.history = blast::front_face_history(wave, cleared);
   return out;
 }
 

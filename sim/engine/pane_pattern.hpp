@@ -9,6 +9,8 @@
 
 #include <cstdint>
 
+#include "sim/blast/blast_point.hpp"
+#include "sim/blast/panel_load.hpp"
 #include "sim/fracture/crack_tree.hpp"
 #include "sim/fracture/pane.hpp"
 #include "sim/response/sdof.hpp"
@@ -25,11 +27,33 @@ struct PaneSize {
 };
 
 // The load on the pane's face: the largest peak pressure (what the static model takes) and the
-// summed pressure history, time since detonation (what the dynamic model integrates).
+// summed pressure history, time since clock_start_s (what the dynamic model integrates).
 struct PaneLoad {
   double peak_pressure_pa = 0.0;
   response::PressureLoad history;
+  double clock_start_s = 0.0;  // the history's time 0 after detonation (the first arrival), s
 };
+
+// The clearing distance S of a pane's front face: half its shorter side. The engine's fragments
+// of a pane keep it (prepare.cpp does not merge them into a surrounding surface), so the pane's
+// own face is the surface it clears from, before and after it breaks.
+double pane_clearing_distance_m(const PaneSize& pane);
+
+// The pressure on the face of a pane that faces one charge, at the pane's centre, as the engine
+// loads its fragments' front faces (sim/engine/run.cpp, Run::activate): the Kingery–Bulmash
+// point at distance_m, the oblique reflection at the angle of incidence (cos_incidence, 0..1),
+// and blast::front_face_history with `options` (pulse shape, clearing on or off, the clearing
+// distance S, the drag coefficient C_D): the reflected pulse cleared over 3 S / U to the
+// stagnation pressure (thesis eqs. 2.30-2.31, UFC 3-340-02 §2-15.3; t_c lengthened by
+// blast::clearing_delay_s as for the engine's front panels), or uncleared when that
+// carries less impulse or clearing is off. Arrives at the curves' arrival time.
+struct PaneFaceLoad {
+  double peak_pressure_pa = 0.0;  // P_r at the angle of incidence (the history's value at 0)
+  response::LoadComponent component;
+  bool in_range = true;  // the blast point lies inside every fitted range
+};
+PaneFaceLoad pane_face_load(const blast::Charge& charge, double distance_m, double cos_incidence,
+                            const blast::PanelLoadOptions& options);
 
 struct PanePattern {
   fracture::PaneFracture response;  // plate stress, breaks, a_c, eq. 5.5's growth length

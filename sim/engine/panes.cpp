@@ -5,7 +5,6 @@
 #include <cmath>
 
 #include "sim/blast/blast_point.hpp"
-#include "sim/blast/reflection.hpp"
 #include "sim/engine/pane_pattern.hpp"
 #include "sim/fracture/fragments.hpp"
 #include "sim/fracture/pane.hpp"
@@ -28,33 +27,28 @@ std::uint64_t mix_seed(std::uint64_t seed, std::uint64_t index) {
   return z ^ (z >> 31);
 }
 
-// The load on the face of the pane that faces each charge, at the pane's centre: the reflected
-// pulse (Kingery–Bulmash, oblique reflection at the angle of incidence), arriving at the curves'
-// arrival time, summed over the charges; and the largest of their peaks (the static model's
-// load: peaks of several charges rarely coincide, so they are not added). The plate models take
-// a uniform pressure, so the centre's value stands for the pane. No clearing: the surfaces a pane
-// clears from are found by a later prepare stage, so the pane's breakage takes the uncleared
-// reflected pulse (an upper estimate of its load).
+// The load on the face of the pane that faces each charge, at the pane's centre: the front-face
+// history the engine gives its fragments (pane_face_load: reflected at the angle of incidence,
+// cleared from the pane's own edges as `options` say), arriving at the curves' arrival time,
+// summed over the charges; and the largest of their peaks (the static model's load: peaks of
+// several charges rarely coincide, so they are not added). The plate models take a uniform
+// pressure, so the centre's value stands for the pane.
 PaneLoad pane_load_at(const Vec3& centre, const Vec3& normal,
-                      const std::vector<ChargeModel>& charges, blast::PulseShape shape,
-                      bool& out_of_range) {
+                      const std::vector<ChargeModel>& charges,
+                      const blast::PanelLoadOptions& options, bool& out_of_range, Vec3& push) {
   PaneLoad load;
+  push = -normal;
   for (const ChargeModel& c : charges) {
     const Vec3 d = centre - c.position;
     const double distance = std::max(d.norm(), 1e-3);
     const double cos_incidence = std::min(1.0, std::abs(normal.dot(d)) / distance);
-    const blast::BlastPoint point = blast::blast_point(c.charge, distance);
-    const blast::ObliqueReflection reflection = blast::oblique_reflection(
-        point.incident_overpressure_pa, point.incident_impulse_pa_s,
-        point.reflected_overpressure_pa, point.reflected_impulse_pa_s, std::acos(cos_incidence));
-    out_of_range = out_of_range || !point.in_validity_range;
-    load.peak_pressure_pa = std::max(load.peak_pressure_pa, reflection.overpressure_pa);
-    if (reflection.overpressure_pa > 0.0 && point.positive_duration_s > 0.0 &&
-        reflection.impulse_pa_s > 0.0)
-      load.history.components.push_back(response::pulse_component(
-          blast::make_pulse(shape, reflection.overpressure_pa, point.positive_duration_s,
-                            reflection.impulse_pa_s),
-          point.arrival_time_s));
+    PaneFaceLoad face = pane_face_load(c.charge, distance, cos_incidence, options);
+    out_of_range = out_of_range || !face.in_range;
+    // The plate is pushed away from the charge with the largest peak.
+    if (face.peak_pressure_pa > load.peak_pressure_pa)
+      push = normal.dot(d) >= 0.0 ? normal : -normal;
+    load.peak_pressure_pa = std::max(load.peak_pressure_pa, face.peak_pressure_pa);
+    if (face.component.history.size() > 0) load.history.components.push_back(face.component);
   }
   // Only the arrivals' differences matter to the pane's peak stress: its clock starts at the
   // first, as `brisance fracture`'s pulse does, so one charge gives the CLI's numbers exactly.
@@ -63,6 +57,7 @@ PaneLoad pane_load_at(const Vec3& centre, const Vec3& normal,
     first = std::min(first, c.arrival_s);
   for (response::LoadComponent& c : load.history.components)
     c.arrival_s -= first;
+  if (std::isfinite(first)) load.clock_start_s = first;
   return load;
 }
 
@@ -148,10 +143,17 @@ PaneReport break_pane(const scene::ObjectSpec& object, std::size_t index,
   PaneReport report;
   report.name = object.name;
   report.strength_pa = spec.strength_pa;
-  const PaneLoad load =
-      pane_load_at(object.position, normal, charges, simulation.pulse_shape, out_of_range);
-  report.peak_pressure_pa = load.peak_pressure_pa;
   const PaneSize size{width, height, thickness, object.mass_kg / (width * height * thickness)};
+  // The pane's front face as the engine loads its fragments' (run.cpp, prepare.cpp): the scene's
+  // pulse shape and clearing switch, S from the pane's own edges, the object's C_D.
+  blast::PanelLoadOptions options;
+  options.shape = simulation.pulse_shape;
+  options.clearing = simulation.clearing;
+  options.clearing_distance_m = pane_clearing_distance_m(size);
+  options.drag_coefficient = object.drag_coefficient;
+  Vec3 push;
+  const PaneLoad load = pane_load_at(object.position, normal, charges, options, out_of_range, push);
+  report.peak_pressure_pa = load.peak_pressure_pa;
   const PanePattern pattern_plan =
       pane_pattern(spec, size, load, spec.seed ? *spec.seed : mix_seed(simulation.seed, index));
   solver_warnings += pattern_plan.solver_warnings;
@@ -190,6 +192,35 @@ PaneReport break_pane(const scene::ObjectSpec& object, std::size_t index,
   const double density = object.mass_kg / (width * height * thickness);
   const Vec2 half(0.5 * width, 0.5 * height);
   const bool own_clearing = spec.clearing == scene::FractureSpec::Clearing::fragment;
+  // Launch (docs/fracture.md, "Speed spread"): when the dynamic plate's stress reaches the
+  // strength the pane cracks through, moving as its mode shape sin(pi x / W) sin(pi y / H) (the
+  // shape of the one-term solution sim/response/plate is built on): fast at the centre, still
+  // at the frame. The impulse its face took until then, i_b per area, is shared out in that
+  // shape instead of per area: fragment k gains (i_b / (rho h)) (phi_k / phi_mean - 1) at release
+  // on top of its own loads, phi_k the shape at its centroid and phi_mean its area-weighted mean
+  // over the fragments, so the pane's momentum is unchanged.
+  std::vector<double> mode(pattern.fragments.size(), 1.0);
+  double mode_mean = 1.0;
+  // Only where the face takes the whole push: a sheltered back (no rear load to net out) and
+  // the pane's clearing (with the thesis's per-fragment clearing the pieces take their own
+  // loads from the start, larger ones more).
+  const bool inherits = response.breaks && response.plate.break_time_s >= 0.0 && !own_clearing &&
+                        scene::is_sheltered(object.sheltered, q.inverse() * push);
+  double break_speed = 0.0;  // i_b / (rho h), m/s
+  if (inherits) {
+    constexpr double kPi = 3.14159265358979323846;
+    double weighted = 0.0, area = 0.0;
+    for (std::size_t k = 0; k < pattern.fragments.size(); ++k) {
+      const fracture::Fragment& piece = pattern.fragments[k];
+      mode[k] = std::sin(kPi * std::clamp(piece.centroid_m.x() / width, 0.0, 1.0)) *
+                std::sin(kPi * std::clamp(piece.centroid_m.y() / height, 0.0, 1.0));
+      weighted += piece.area_m2 * mode[k];
+      area += piece.area_m2;
+    }
+    mode_mean = weighted / area;
+    break_speed =
+        load.history.impulse_pa_s(0.0, response.plate.break_time_s) / (density * thickness);
+  }
   for (std::size_t k = 0; k < pattern.fragments.size(); ++k) {
     checkpoint.tick(256);
     const fracture::Fragment& piece = pattern.fragments[k];
@@ -203,7 +234,7 @@ PaneReport break_pane(const scene::ObjectSpec& object, std::size_t index,
     body.blocks = false;  // the glass the wave itself breaks shields nothing behind it
     body.frontal_area_m2 = piece.area_m2;
     body.unit_mass = geometry::prism_mass_properties(local, thickness, 1.0);
-    fragment_panels(local, thickness, 0.5 * std::min(width, height), own_clearing, body);
+    fragment_panels(local, thickness, options.clearing_distance_m, own_clearing, body);
     // The hold (docs/fracture.md): the crack faces' interlock over the crack's area, and the
     // glazing's grip along the frame.
     const double on_border = border_length(piece.polygon_m, width, height);
@@ -214,6 +245,8 @@ PaneReport break_pane(const scene::ObjectSpec& object, std::size_t index,
     const Vec3 centroid_world = object.position + q * Vec3(piece.centroid_m.x() - half.x(),
                                                            piece.centroid_m.y() - half.y(), 0.0);
     body.release_not_before_s = earliest_arrival_s(centroid_world, charges);
+    if (inherits && mode_mean > 0.0)
+      body.release_velocity_m_s = break_speed * (mode[k] / mode_mean - 1.0) * push;
     body.mesh = geometry::extrude(local, thickness);
     body.position = object.position;
     body.orientation = object.orientation;

@@ -136,6 +136,7 @@ void prepare_body(BodySource& source, double normal_force_n, bool standing, doub
   model.friction.push_back(source.friction);
   model.fragment.push_back(source.fragment ? 1 : 0);
   model.release_not_before_s.push_back(source.release_not_before_s);
+  model.release_velocity_m_s.push_back(source.release_velocity_m_s);
   // Friction from the ground is the contact's job once the body moves; the hold's eq. 2.40
   // friction is for bodies resting on other bodies. A breakaway hold breaks once and for all.
   const bool on_ground = model.ground && world_box(source).min.y() <= model.ground->height_m + 5e-3;

@@ -100,6 +100,9 @@ struct PaneReport {
   // (thesis §6.5: larger fragments fly faster when each clears from its own edges), m/s.
   double launch_speed_larger_half_m_s = 0.0;
   double launch_speed_smaller_half_m_s = 0.0;
+  // Mean launch speed weighted by mass (the released fragments' momentum over their mass), m/s:
+  // what the wave's impulse bounds (i_r / (rho h) for a pane with a sheltered back).
+  double launch_speed_mass_weighted_m_s = 0.0;
   std::uint64_t released = 0;
   // Per fragment, in body order: when it broke free (s), or a negative value if it never did
   // (held by the frame or the crack interlock; such fragments stay in place, static).

@@ -140,8 +140,10 @@ void Run::release_held(double t0, double t1) {
       state_.motion[body] = Motion::awake;
       if (fragment) {
         state_.release_time_s[body] = std::max(t0, not_before);
-        // What it took while held acts at the start of this step.
+        // What it took while held acts at the start of this step, shared out as the plate's
+        // velocity was when its pane broke (model.hpp, release_velocity_m_s).
         const dynamics::StepLoads& deferred = state_.deferred[body];
+        loads.impulse += model_.bodies[body].mass_kg * model_.release_velocity_m_s[body];
         loads.impulse += deferred.impulse;
         loads.angular_impulse += deferred.angular_impulse;
         loads.impulse_moment += (t1 - t0) * deferred.impulse;

@@ -47,6 +47,8 @@ void report_fragments(const std::vector<BodySource>& sources, const RunState& ru
     std::vector<double> areas;
     std::vector<double> releases;
     std::vector<std::pair<double, double>> launched;  // area, launch speed
+    double momentum = 0.0;
+    double released_mass = 0.0;
     for (std::uint32_t b = pane.first_body; b < pane.first_body + pane.fragment_count; ++b) {
       const double frontal_area_m2 = sources[b].frontal_area_m2;
       areas.push_back(frontal_area_m2);
@@ -56,10 +58,13 @@ void report_fragments(const std::vector<BodySource>& sources, const RunState& ru
       releases.push_back(release);
       // Still loaded when the run ended: its speed then.
       const double launch = run.launch_speed_m_s[b];
-      launched.emplace_back(frontal_area_m2,
-                            launch >= 0.0 ? launch : run.bodies[b].velocity.norm());
+      const double speed = launch >= 0.0 ? launch : run.bodies[b].velocity.norm();
+      launched.emplace_back(frontal_area_m2, speed);
+      momentum += sources[b].mass_kg * speed;
+      released_mass += sources[b].mass_kg;
     }
     pane.released = releases.size();
+    if (released_mass > 0.0) pane.launch_speed_mass_weighted_m_s = momentum / released_mass;
     pane.frontal_area_m2 = distribution_of(std::move(areas));
     pane.release_time_s = distribution_of(std::move(releases));
     std::vector<double> speeds;

@@ -23,6 +23,10 @@ struct PlateResponse {
   double stress_pa = 0.0;        // sigma_max
   double deflection_m = 0.0;     // y_max
   bool small_deflection = true;  // y_max <= t / 2: the table's theory applies
+  // A dynamic model's break: when the stress first reached the strength (s on the load's clock;
+  // -1: never, or a static model) and the plate's centre velocity then, m/s.
+  double break_time_s = -1.0;
+  double break_velocity_m_s = 0.0;
 };
 PlateResponse simply_supported_plate(double width_m, double height_m, double thickness_m,
                                      double pressure_pa, double youngs_modulus_pa);

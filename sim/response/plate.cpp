@@ -72,6 +72,39 @@ std::pair<double, double> hermite_peak(double w0, double v0, double w1, double v
   return {best, at};
 }
 
+// The first s in [0, s_peak] where the step's cubic Hermite interpolant's |w| reaches `level`
+// (|w(s_peak)| >= level), and dw/dt there: 64 samples, then bisection on the bracketing pair.
+std::pair<double, double> hermite_first_reach(double w0, double v0, double w1, double v1, double h,
+                                              double level, double s_peak) {
+  const auto value = [&](double s) {
+    const double s2 = s * s, s3 = s2 * s;
+    return (2 * s3 - 3 * s2 + 1) * w0 + (s3 - 2 * s2 + s) * h * v0 + (-2 * s3 + 3 * s2) * w1 +
+           (s3 - s2) * h * v1;
+  };
+  const auto rate = [&](double s) {  // dw/dt = (dw/ds) / h
+    const double s2 = s * s;
+    return ((6 * s2 - 6 * s) * w0 + (3 * s2 - 4 * s + 1) * h * v0 + (-6 * s2 + 6 * s) * w1 +
+            (3 * s2 - 2 * s) * h * v1) /
+           h;
+  };
+  double lo = 0.0, hi = s_peak;
+  if (std::abs(value(0.0)) >= level) return {0.0, v0};
+  constexpr int kSamples = 64;
+  for (int k = 1; k <= kSamples; ++k) {
+    const double s = s_peak * k / kSamples;
+    if (std::abs(value(s)) >= level) {
+      hi = s;
+      break;
+    }
+    lo = s;
+  }
+  for (int i = 0; i < 60 && hi - lo > 1e-15; ++i) {
+    const double mid = 0.5 * (lo + hi);
+    (std::abs(value(mid)) >= level ? hi : lo) = mid;
+  }
+  return {hi, rate(hi)};
+}
+
 }  // namespace
 
 double PlateModel::resistance_n(double w) const {
@@ -169,6 +202,15 @@ PlateSdofResult solve_plate(const PlateModel& model, const PressureLoad& load,
   constexpr double e1 = b1 - 5179.0 / 57600, e3 = b3 - 7571.0 / 16695, e4 = b4 - 393.0 / 640,
                    e5 = b5 + 92097.0 / 339200, e6 = b6 - 187.0 / 2100, e7 = -1.0 / 40;
 
+  // The break: |w| reaching the deflection at which the centre stress is the break stress
+  // (the stress grows with |w|: a quadratic b |w| + m w^2 = sigma).
+  double break_deflection = INFINITY;
+  if (std::isfinite(options.break_stress_pa) && options.break_stress_pa >= 0.0) {
+    const double bb = model.bending_stress_pa_per_m, mm = model.membrane_stress_pa_per_m2;
+    break_deflection = mm > 0.0 ? 2.0 * options.break_stress_pa /
+                                      (bb + std::sqrt(bb * bb + 4.0 * mm * options.break_stress_pa))
+                                : options.break_stress_pa / bb;
+  }
   double w = 0.0, v = 0.0;
   double h = period / 64.0;
   const double max_step = period / 16.0;
@@ -223,6 +265,12 @@ PlateSdofResult solve_plate(const PlateModel& model, const PressureLoad& load,
         continue;
       }
       const auto [peak, at] = hermite_peak(w, v, w_new, v_new, step);
+      if (result.break_time_s < 0.0 && peak >= break_deflection) {
+        const auto [s_break, v_break] =
+            hermite_first_reach(w, v, w_new, v_new, step, break_deflection, at);
+        result.break_time_s = t + s_break * step;
+        result.break_velocity_m_s = v_break;
+      }
       if (peak > result.peak_deflection_m) {
         result.peak_deflection_m = peak;
         result.time_to_peak_s = t + at * step;

@@ -28,6 +28,7 @@
 // shape's change under membrane action is not modelled.
 #pragma once
 
+#include <cmath>
 #include <cstddef>
 
 #include "sim/response/sdof.hpp"
@@ -75,6 +76,9 @@ struct PlateSolveOptions {
   double load_scale = 1.0;  // multiplies the pressure (breaking-pressure bisections)
   double tolerance = 1e-9;  // local error per step, relative to the largest |w| so far (v: x omega)
   std::size_t max_steps = 2000000;  // a cap; reaching it is a warning, the result partial
+  // The stress at which the plate breaks (a pane's strength), Pa: the result gives when the
+  // centre stress first reaches it and the centre velocity then. Infinite: not looked for.
+  double break_stress_pa = INFINITY;
 };
 
 struct PlateSdofResult {
@@ -84,6 +88,11 @@ struct PlateSdofResult {
   std::size_t steps = 0;
   std::size_t rejected_steps = 0;
   std::size_t warnings = 0;  // non-finite state or the step cap
+  // The first time the centre stress reaches options.break_stress_pa (-1: never), s, on the
+  // load's clock, and the centre velocity dw/dt then, m/s (from the step's cubic Hermite
+  // interpolant, as the peak).
+  double break_time_s = -1.0;
+  double break_velocity_m_s = 0.0;
 };
 
 // Integrates K_M m w'' + K_L R(w) = K_L A s p(t) from rest with an error-controlled

@@ -1,4 +1,5 @@
 // Tests of `brisance fracture` in-process: the JSON and SVG outputs and the input errors.
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -102,53 +103,82 @@ TEST(FractureCommand, SvgHasOnePolygonPerFragment) {
   std::filesystem::remove(json_path);
 }
 
-TEST(FractureCommand, PreviewsThePatternAJobGrowsForTheSamePane) {
-  // A job breaks a 1.2 x 0.8 m, 6 mm pane 15 m from 10 kg TNT; the CLI given the pane's size,
-  // the reflected pulse (the peak pressure of the job's fracture report, and the duration and
-  // impulse `brisance blast` gives) and the seed grows the same fragments.
-  const scene::ParseResult parsed = scene::parse_scene(nlohmann::json::parse(R"({
+namespace {
+
+// A job that breaks a 1.2 x 0.8 m, 6 mm pane 15 m from 10 kg TNT, its pane's report.
+engine::Result pane_job(bool clearing) {
+  const scene::ParseResult parsed =
+      scene::parse_scene(nlohmann::json::parse(text::printf(R"({
     "charges": [{"position": [0, 1, -15], "mass": 10}],
     "objects": [{"name": "pane", "shape": {"type": "box", "size": [1.2, 0.8, 0.006]},
                  "position": [0, 1, 0], "material": "glass", "fracture": {"seed": 7}}],
     "environment": {"ground": null, "gravity": [0, 0, 0]},
-    "simulation": {"duration": 0.0005}
-  })"));
-  ASSERT_TRUE(parsed.scene);
-  const engine::Result job = engine::simulate(*parsed.scene).result;
+    "simulation": {"duration": 0.0005, "clearing": %s}
+  })",
+                                                            clearing ? "true" : "false")));
+  EXPECT_TRUE(parsed.scene);
+  return engine::simulate(*parsed.scene).result;
+}
+
+void expect_same_fragments(const nlohmann::json& preview, const engine::Result& job,
+                           double growth_tolerance) {
+  const engine::PaneReport& pane = job.fracture[0];
+  EXPECT_EQ(preview["fragments"].size(), pane.fragment_count);
+  EXPECT_NEAR(preview["growth_length"].get<double>() / pane.growth_length_m, 1.0, growth_tolerance);
+  EXPECT_EQ(preview["breakage"], "dynamic");
+  for (std::size_t k = 0;
+       k < std::min<std::size_t>(pane.fragment_count, preview["fragments"].size()); ++k) {
+    const double area = preview["fragments"][k]["area"].get<double>();
+    EXPECT_NEAR(area, job.bodies[pane.first_body + k].mass_kg / (2500.0 * 0.006),
+                1e-9 + 1e-6 * area)
+        << "fragment " << k;
+  }
+}
+
+}  // namespace
+
+TEST(FractureCommand, PreviewsThePatternAJobGrowsForTheSamePane) {
+  // The CLI given the pane's size, the charge and its distance, and the seed loads the pane as
+  // the job does (the reflected pulse cleared from the pane's edges) and grows the same fragments.
+  const engine::Result job = pane_job(true);
   ASSERT_EQ(job.fracture.size(), 1u);
   const engine::PaneReport& pane = job.fracture[0];
   ASSERT_TRUE(pane.broken);
   ASSERT_GT(pane.fragment_count, 10u);
+  const std::string path = temp_path("job_pane.json");
+  std::ostringstream out;
+  ASSERT_EQ(run_fracture({"--width", "1.2", "--height", "0.8", "--thickness", "0.006",
+                          "--charge-kg", "10", "--distance-m", "15", "--seed", "7", "-o", path},
+                         out),
+            kExitOk);
+  nlohmann::json preview = nlohmann::json::parse(read(path));
+  EXPECT_NEAR(preview["pressure_kpa"].get<double>() * 1e3 / pane.peak_pressure_pa, 1.0, 1e-12);
+  EXPECT_NEAR(preview["stress_mpa"].get<double>() * 1e6, pane.stress_pa, 1e-12 * pane.stress_pa);
+  expect_same_fragments(preview, job, 1e-12);
+  EXPECT_NE(out.str().find("growth length"), std::string::npos) << out.str();
 
+  // The reflected-pulse flags are the uncleared pulse: a job with clearing off. Its stress is
+  // higher than the cleared pane's.
+  const engine::Result uncleared = pane_job(false);
+  ASSERT_EQ(uncleared.fracture.size(), 1u);
+  EXPECT_GT(uncleared.fracture[0].stress_pa, 1.05 * pane.stress_pa);
   blast::Charge charge;
   charge.tnt_equivalent_kg = 10.0;
   const blast::BlastPoint point = blast::blast_point(charge, 15.0);
   const blast::ObliqueReflection head_on =
       blast::oblique_reflection(point.incident_overpressure_pa, point.incident_impulse_pa_s,
                                 point.reflected_overpressure_pa, point.reflected_impulse_pa_s, 0.0);
-  ASSERT_EQ(head_on.overpressure_pa, pane.peak_pressure_pa);
-  const std::string path = temp_path("job_pane.json");
-  std::ostringstream out;
+  ASSERT_EQ(head_on.overpressure_pa, uncleared.fracture[0].peak_pressure_pa);
   ASSERT_EQ(
       run_fracture({"--width", "1.2", "--height", "0.8", "--thickness", "0.006", "--pressure-kpa",
-                    text::printf("%.17g", pane.peak_pressure_pa / 1e3), "--duration-ms",
+                    text::printf("%.17g", head_on.overpressure_pa / 1e3), "--duration-ms",
                     text::printf("%.17g", point.positive_duration_s * 1e3), "--impulse-kpa-ms",
                     text::printf("%.17g", head_on.impulse_pa_s), "--seed", "7", "-o", path},
                    out),
       kExitOk);
-  const nlohmann::json preview = nlohmann::json::parse(read(path));
-  EXPECT_EQ(preview["fragments"].size(), pane.fragment_count);
   // The flags are decimal kPa and ms, so the pulse can differ from the job's in the last bit,
   // and the integrated stress with it.
-  EXPECT_NEAR(preview["growth_length"].get<double>() / pane.growth_length_m, 1.0, 1e-12);
-  EXPECT_EQ(preview["breakage"], "dynamic");
-  EXPECT_NE(out.str().find("growth length"), std::string::npos) << out.str();
-  for (std::size_t k = 0; k < pane.fragment_count; ++k) {
-    const double area = preview["fragments"][k]["area"].get<double>();
-    EXPECT_NEAR(area, job.bodies[pane.first_body + k].mass_kg / (2500.0 * 0.006),
-                1e-9 + 1e-6 * area)
-        << "fragment " << k;
-  }
+  expect_same_fragments(nlohmann::json::parse(read(path)), uncleared, 1e-12);
   std::filesystem::remove(path);
 
   // Without a pressure, the one that just breaks the pane: the coarsest pattern, fewer pieces.
@@ -163,6 +193,17 @@ TEST(FractureCommand, PreviewsThePatternAJobGrowsForTheSamePane) {
 
 TEST(FractureCommand, BadInputIsOneClearMessage) {
   const std::string out = temp_path("x.svg");
+  EXPECT_NE(usage_error({"--width", "1", "--height", "1", "--charge-kg", "10", "-o", out})
+                .find("go together"),
+            std::string::npos);
+  EXPECT_NE(usage_error({"--width", "1", "--height", "1", "--charge-kg", "10", "--distance-m", "5",
+                         "--pressure-kpa", "50", "-o", out})
+                .find("not both"),
+            std::string::npos);
+  EXPECT_NE(usage_error({"--width", "1", "--height", "1", "--charge-kg", "-1", "--distance-m", "5",
+                         "-o", out})
+                .find("--charge-kg must be greater than 0"),
+            std::string::npos);
   EXPECT_NE(usage_error({"--height", "1", "-o", out}).find("--width is required"),
             std::string::npos);
   EXPECT_NE(usage_error({"--width", "1", "--height", "1"}).find("-o pattern.svg"),

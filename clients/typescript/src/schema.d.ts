@@ -1106,6 +1106,8 @@ export interface components {
             launch_speed_m_s: components["schemas"]["Distribution"];
             launch_speed_larger_half_m_s: number;
             launch_speed_smaller_half_m_s: number;
+            /** @description The released fragments' launch speeds weighted by mass (their momentum over their mass); 0 if none was released. */
+            launch_speed_mass_weighted_m_s: number;
             released: number;
             /** @description Per fragment, when it broke free (s), or null if it never did. */
             release_times_s: (number | null)[];

@@ -41,6 +41,18 @@ TEST(RankineHugoniot, DynamicPressureIsHalfRhoUSquared) {
   }
 }
 
+TEST(RankineHugoniot, ParticleVelocityIsTheGamma14ClosedForm) {
+  // For gamma = 1.4: u = (5 p / (7 p0)) a0 / sqrt(1 + 6 p / (7 p0)) (Kinney & Graham, Explosive
+  // Shocks in Air, 2nd ed., 1985). a0 = 340.29 m/s and p0 / rho0 agree to 1.5e-5.
+  const Ambient air;
+  for (double p : {1e3, 3e4, 2e5, 1e6}) {
+    const double ratio = p / air.pressure_pa;
+    const double closed =
+        5.0 * ratio / 7.0 * air.sound_speed_m_s / std::sqrt(1.0 + 6.0 * ratio / 7.0);
+    EXPECT_NEAR(rh_particle_velocity_m_s(p, air) / closed, 1.0, 1e-4) << p;
+  }
+}
+
 TEST(BrodeEquations, FollowEquations2_20And2_21) {
   // Z = 0.5: 6.7 / 0.125 + 1 = 54.6 bar (near field, eq. 2.20).
   const EmpiricalOverpressure near = brode_overpressure(0.5);

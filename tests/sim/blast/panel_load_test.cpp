@@ -252,5 +252,41 @@ TEST(DragLoading, FollowsEquation2_32AndTheNormalComponent) {
   }
 }
 
+TEST(BlastWind, ParticleVelocityDecayingAsTheOverpressureOverThePositivePhase) {
+  // 10 kg TNT at 10 m: the wind arrives with the front at u_s (Rankine–Hugoniot), falls as
+  // p_s(t) / P_so, and stops at the end of the positive phase; rho_s u^2 / 2 is the dynamic
+  // pressure q(t) = q_s (p_s(t) / P_so)^2 the drag loads use.
+  Charge charge;
+  charge.tnt_equivalent_kg = 10.0;
+  const BlastPoint point = blast_point(charge, 10.0);
+  const BlastWind wind = blast_wind(point, PulseShape::friedlander);
+  const double u_s = rh_particle_velocity_m_s(point.incident_overpressure_pa);
+  EXPECT_GT(u_s, 40.0);
+  EXPECT_EQ(wind.velocity_m_s(point.arrival_time_s - 1e-6), 0.0);
+  EXPECT_NEAR(wind.velocity_m_s(point.arrival_time_s), u_s, 1e-9 * u_s);
+  EXPECT_EQ(wind.velocity_m_s(point.arrival_time_s + point.positive_duration_s + 1e-6), 0.0);
+  const PressureHistory side_on = side_on_history(
+      PanelWave{point.incident_overpressure_pa, point.incident_impulse_pa_s,
+                point.positive_duration_s, point.shock_velocity_m_s, point.dynamic_pressure_pa},
+      PulseShape::friedlander);
+  PanelWave wave;
+  wave.incident_overpressure_pa = point.incident_overpressure_pa;
+  wave.incident_impulse_pa_s = point.incident_impulse_pa_s;
+  wave.positive_duration_s = point.positive_duration_s;
+  wave.dynamic_pressure_pa = point.dynamic_pressure_pa;
+  const PressureHistory q = drag_history(wave, PanelLoadOptions{});
+  const double rho_s = rh_density_behind_kg_m3(point.incident_overpressure_pa);
+  for (double f : {0.0, 0.1, 0.3, 0.6, 0.9}) {
+    const double t = f * point.positive_duration_s;
+    const double u = wind.velocity_m_s(point.arrival_time_s + t);
+    EXPECT_NEAR(u, u_s * side_on.pressure_pa(t) / point.incident_overpressure_pa, 1e-9 * u_s);
+    EXPECT_NEAR(0.5 * rho_s * u * u,
+                q.pressure_pa(t) * rh_dynamic_pressure_pa(point.incident_overpressure_pa) /
+                    point.dynamic_pressure_pa,
+                3e-3 * point.dynamic_pressure_pa)
+        << f;
+  }
+}
+
 }  // namespace
 }  // namespace brisance::blast

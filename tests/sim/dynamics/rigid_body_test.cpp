@@ -205,6 +205,37 @@ TEST(Drag, StableForAnyStep) {
   EXPECT_LT(state.velocity.x(), 400.0);
 }
 
+TEST(Drag, ALightBodyIsCarriedByTheWindAndNeverPassesIt) {
+  // Drag on the velocity relative to the air: a light plate at rest in a 60 m/s wind (the blast
+  // wind's particle velocity at about 30 kPa) gains speed towards the wind's, monotonically, and
+  // never passes it, at any step (dr/dt = -k |r| r, r = v - w, solved exactly per step). In the
+  // air's frame it is the still-air drag: v - w = r0 / (1 + k |r0| t).
+  const BodyModel body = box_model(1e-3, Vec3(0.05, 0.05, 0.001));
+  WorldSettings world;
+  world.gravity_m_s2.setZero();
+  const Vec3 wind(0.0, 0.0, 60.0);
+  const double k = 0.5 * 1.225 * 1.0 * 0.05 * 0.05 / 1e-3;  // face-on, per m
+  for (double dt : {1e-5, 1e-3, 0.1}) {
+    BodyState state;
+    double previous = 0.0;
+    for (int i = 0; i < 200; ++i) {
+      integrate(body, state, StepLoads{}, world, dt, wind);
+      EXPECT_GT(state.velocity.z(), previous);
+      EXPECT_LT(state.velocity.z(), wind.z());
+      previous = state.velocity.z();
+    }
+    const double t = 200 * dt;
+    EXPECT_NEAR(state.velocity.z(), 60.0 - 60.0 / (1.0 + k * 60.0 * t), 1e-9 * 60.0) << dt;
+  }
+  // Still air (the wind after the positive phase) gives the still-air drag exactly.
+  BodyState moving, still;
+  moving.velocity = still.velocity = Vec3(0.0, 0.0, 20.0);
+  integrate(body, moving, StepLoads{}, world, 1e-2, Vec3::Zero());
+  integrate(body, still, StepLoads{}, world, 1e-2);
+  EXPECT_EQ(moving.velocity, still.velocity);
+  EXPECT_NEAR(still.velocity.z(), 20.0 / (1.0 + k * 20.0 * 1e-2), 1e-12);
+}
+
 TEST(GroundContact, DroppedBoxComesToRestOnTheGround) {
   const BodyModel body = box_model(10.0, Vec3(0.4, 0.2, 0.3));
   WorldSettings world;

@@ -269,12 +269,116 @@ TEST(PaneCoupling, DeterministicFragmentsAndFrames) {
   EXPECT_NE(masses(simulate(s).result), masses(a));
 }
 
+TEST(PaneCoupling, BreakageTakesTheClearedFrontFaceItsFragmentsTake) {
+  // The pane is judged under the history its fragments' front faces take in the run: the
+  // reflected pulse relieved from the pane's edges (S = half the shorter side, 0.45 m) over
+  // 3 S / U into the stagnation pressure (thesis eqs. 2.30-2.31, sim/blast/panel_load), not the
+  // uncleared reflected pulse. Built here by hand from the blast point and the face history.
+  const scene::Scene s = pane_scene(10.0, Vec3(0.0, 1.5, 10.0));
+  const PaneReport cleared = simulate(s).result.fracture.at(0);
+  scene::Scene off = s;
+  off.simulation.clearing = false;
+  const PaneReport uncleared = simulate(off).result.fracture.at(0);
+  EXPECT_EQ(cleared.peak_pressure_pa, uncleared.peak_pressure_pa);  // the front starts at P_r
+
+  blast::Charge charge;
+  charge.tnt_equivalent_kg = 10.0;
+  const blast::BlastPoint point = blast::blast_point(charge, 10.0);
+  blast::PanelWave wave;
+  wave.incident_overpressure_pa = point.incident_overpressure_pa;
+  wave.incident_impulse_pa_s = point.incident_impulse_pa_s;
+  wave.positive_duration_s = point.positive_duration_s;
+  wave.shock_velocity_m_s = point.shock_velocity_m_s;
+  wave.dynamic_pressure_pa = point.dynamic_pressure_pa;
+  wave.reflected_overpressure_pa = point.reflected_overpressure_pa;
+  wave.reflected_impulse_pa_s = point.reflected_impulse_pa_s;
+  blast::PanelLoadOptions options;
+  options.clearing_distance_m = 0.45;
+  options.clearing_delay_s = blast::clearing_delay_s(charge, 10.0, 0.0, 0.45);  // head-on
+  PaneLoad load;
+  load.peak_pressure_pa = point.reflected_overpressure_pa;
+  load.history.components.push_back({0.0, blast::front_face_history(wave, options)});
+  // The cleared face carries less impulse than i_r: 3 S / U is about half of t_o here.
+  ASSERT_LT(load.history.impulse_pa_s(0.0, 1.0), 0.9 * point.reflected_impulse_pa_s);
+  const PaneSize size{1.2, 0.9, 0.006, 2500.0};
+  const fracture::PlateResponse by_hand = pane_stress(*s.objects[0].fracture, size, load);
+  EXPECT_NEAR(cleared.stress_pa / by_hand.stress_pa, 1.0, 1e-9);
+  EXPECT_NEAR(cleared.deflection_m / by_hand.deflection_m, 1.0, 1e-9);
+  EXPECT_LT(cleared.stress_pa, 0.95 * uncleared.stress_pa);
+}
+
+TEST(PaneCoupling, FragmentsLeaveWithThePlatesVelocityShape) {
+  // Issue 11 / thesis §6.5: at the break the pane moves as its mode shape, fast at the centre
+  // and still at the frame; the impulse it took until then is shared out in that shape, so a
+  // fragment near the centre leaves faster than one near the edge (per-area sharing gave every
+  // fragment the same speed within 0.5 %), and the pane's momentum is unchanged: with nothing
+  // holding the fragments, no gravity and no flight drag, their mass-weighted mean velocity
+  // is the cleared face's impulse per mass (the pane's back sheltered).
+  scene::Scene s = pane_scene(10.0, Vec3(0.0, 1.5, 10.0));
+  s.objects[0].sheltered = scene::kShelteredBack;
+  s.objects[0].fracture->bond_strength_pa = 0.0;
+  s.environment.gravity_m_s2 = Vec3::Zero();
+  s.environment.air_density_kg_m3 = 0.0;
+  s.simulation.duration_s = 0.05;
+  const Result r = simulate(s).result;
+  const PaneReport& pane = r.fracture.at(0);
+  ASSERT_TRUE(pane.broken);
+  ASSERT_EQ(pane.released, pane.fragment_count);
+  ASSERT_GT(pane.fragment_count, 10u);
+
+  double momentum = 0.0, mass = 0.0;
+  double centre_speed = 0.0, edge_speed = 0.0;
+  double centre_distance = INFINITY, edge_margin = INFINITY;
+  for (std::size_t k = 0; k < pane.fragment_count; ++k) {
+    const std::size_t b = pane.first_body + k;
+    const double m = r.bodies[b].mass_kg;
+    const double vz = r.final_state[b].linear_velocity_m_s[2];
+    momentum += m * vz;
+    mass += m;
+  }
+  // Where each fragment lies in the pane: the mean of its mesh's vertices (the pane's centred
+  // frame). The one nearest the centre against the one nearest the frame.
+  for (std::size_t k = 0; k < pane.fragment_count; ++k) {
+    const std::size_t b = pane.first_body + k;
+    Vec3 c = Vec3::Zero();
+    for (const Vec3& v : r.bodies[b].mesh.vertices)
+      c += v;
+    c /= static_cast<double>(r.bodies[b].mesh.vertices.size());
+    const double speed = std::abs(r.final_state[b].linear_velocity_m_s[2]);
+    const double from_centre = std::hypot(c.x(), c.y());
+    const double margin = std::min(0.6 - std::abs(c.x()), 0.45 - std::abs(c.y()));
+    if (from_centre < centre_distance) centre_distance = from_centre, centre_speed = speed;
+    if (margin < edge_margin) edge_margin = margin, edge_speed = speed;
+  }
+  EXPECT_GT(centre_speed, 1.5 * edge_speed) << centre_distance << " " << edge_margin;
+
+  blast::Charge charge;
+  charge.tnt_equivalent_kg = 10.0;
+  const blast::BlastPoint point = blast::blast_point(charge, 10.0);
+  blast::PanelWave wave;
+  wave.incident_overpressure_pa = point.incident_overpressure_pa;
+  wave.incident_impulse_pa_s = point.incident_impulse_pa_s;
+  wave.positive_duration_s = point.positive_duration_s;
+  wave.shock_velocity_m_s = point.shock_velocity_m_s;
+  wave.dynamic_pressure_pa = point.dynamic_pressure_pa;
+  wave.reflected_overpressure_pa = point.reflected_overpressure_pa;
+  wave.reflected_impulse_pa_s = point.reflected_impulse_pa_s;
+  blast::PanelLoadOptions options;
+  options.clearing_distance_m = 0.45;
+  const double per_mass =
+      blast::front_face_history(wave, options).total_impulse_pa_s() / (2500.0 * 0.006);
+  // The fragments' panels lie up to 0.75 m off the axis: distance and incidence change their
+  // impulse by about 1 %.
+  EXPECT_NEAR(-momentum / mass / per_mass, 1.0, 0.03);
+}
+
 TEST(WindowScenes, WindowIsBlownOut) {
   // Thesis ch. 6: fragments blown away from the charge (at +z), larger ones faster (§6.5: each
   // fragment clears from its own edges). Hundreds of them with the static small-deflection
   // stress (778 MPa at window.json's 80.9 kPa); dozens with the dynamic plate model, whose
-  // membrane action holds the stress to 213 MPa: eq. 5.5's growth length is (778/213)^2 = 13 x
-  // longer (docs/fracture.md, "Breakage: dynamic against static").
+  // membrane action holds the stress to 184 MPa under the front face cleared from the pane's
+  // edges (213 MPa uncleared): eq. 5.5's growth length is (778/184)^2 = 18 x longer
+  // (docs/fracture.md, "Breakage: dynamic against static").
   scene::Scene by_static = load("window.json");
   by_static.objects[0].fracture->breakage = scene::FractureSpec::Breakage::static_plate;
   by_static.simulation.duration_s = 0.01;
@@ -283,8 +387,8 @@ TEST(WindowScenes, WindowIsBlownOut) {
   ASSERT_EQ(r.fracture.size(), 1u);
   const PaneReport& pane = r.fracture[0];
   ASSERT_TRUE(pane.broken);
-  EXPECT_NEAR(pane.stress_pa, 213e6, 1e6);
-  EXPECT_GE(pane.fragment_count, 30u);
+  EXPECT_NEAR(pane.stress_pa, 184e6, 1e6);
+  EXPECT_GE(pane.fragment_count, 25u);
   EXPECT_GT(pane.released, pane.fragment_count / 2);
   EXPECT_GT(pane.launch_speed_larger_half_m_s, pane.launch_speed_smaller_half_m_s);
   std::size_t away = 0;
@@ -299,8 +403,11 @@ TEST(WindowScenes, WindowIsBlownOut) {
 
 TEST(WindowScenes, ShelteredPaneFliesWithTheMomentumTheWaveGives) {
   // A pane with a room behind it takes at most about i_r per area from the pressure: its
-  // fragments' mean launch speed lies between 0.6 and 1.3 times i_r / (rho h) (issue 11's
-  // bound; bench/results/window_fragments.txt has the table over charges and thicknesses).
+  // fragments' momentum over their mass (the mass-weighted mean launch speed) lies between 0.6
+  // and 1.3 times i_r / (rho h) (issue 11's bound; bench/results/window_fragments.txt has the
+  // table over charges and thicknesses). The plain mean over fragments is lower: they leave in
+  // the plate's velocity shape, and the many small pieces along the frame start slowly
+  // (docs/fracture.md, "Launch").
   scene::Scene s = load("window.json");
   const scene::ObjectSpec& pane = s.objects[0];
   ASSERT_EQ(pane.sheltered, scene::kShelteredBack);
@@ -309,13 +416,16 @@ TEST(WindowScenes, ShelteredPaneFliesWithTheMomentumTheWaveGives) {
       blast::Charge{s.charges[0].mass_kg}, (s.charges[0].position - pane.position).norm());
   const double bound = point.reflected_impulse_pa_s / mass_per_area;
   const Result sheltered = simulate(s).result;
-  const double speed = sheltered.fracture[0].launch_speed_m_s.mean;
+  const double speed = sheltered.fracture[0].launch_speed_mass_weighted_m_s;
   EXPECT_GT(speed, 0.6 * bound);
   EXPECT_LT(speed, 1.3 * bound);
+  EXPECT_GT(sheltered.fracture[0].launch_speed_m_s.mean, 0.5 * bound);
+  EXPECT_LT(sheltered.fracture[0].launch_speed_m_s.mean, speed);
   // Held fragments keep the load they took before breaking free: most leave the frame — of the
-  // dynamic model's 43, 36 (84 %); of the static model's 579, 488 (84 %). (The static model's
-  // pattern had 400-odd fragments and over 90 % released while the crack tree lost tips to a
-  // wrong kill; the complete tree has more small pieces along the frame, which holds them.)
+  // dynamic model's 32, 24 (75 %; 43 and 36 before its load was cleared); of the static model's
+  // 579, 488 (84 %). (The static model's pattern had 400-odd fragments and over 90 % released while
+  // the crack tree lost tips to a wrong kill; the complete tree has more small pieces along the
+  // frame, which holds them.)
   EXPECT_GT(static_cast<double>(sheltered.fracture[0].released),
             0.8 * static_cast<double>(sheltered.fracture[0].fragment_count));
   scene::Scene by_static = s;

@@ -115,6 +115,36 @@ TEST(Plate, SlowLoadReachesTheStaticLargeDeflectionSolution) {
   }
 }
 
+TEST(Plate, BreakIsWhereTheStressFirstReachesTheStrength) {
+  // The linear SDOF under a rectangular step load q: w(t) = w_s (1 - cos omega t), w_s = A q /
+  // k1 (Biggs 1964 ch. 2). With the membrane stress off the centre stress is bending only, so
+  // a break stress of half the peak's is reached at w = w_s, t = T / 4, with dw/dt = w_s omega.
+  PlateModel m = plate_model(window_pane());
+  m.cubic_stiffness_n_per_m3 = 0.0;
+  m.membrane_stress_pa_per_m2 = 0.0;
+  const double period = m.natural_period_s();
+  const double omega = 2.0 * kPi / period;
+  const double q = 1000.0;
+  const double w_static = m.area_m2 * q / m.linear_stiffness_n_per_m;
+  PlateSolveOptions options;
+  options.break_stress_pa = m.centre_stress_pa(w_static);
+  const PlateSdofResult r = solve_plate(m, rectangle(q, 3.0 * period), options);
+  EXPECT_NEAR(r.break_time_s / (0.25 * period), 1.0, 1e-6);
+  EXPECT_NEAR(r.break_velocity_m_s / (w_static * omega), 1.0, 1e-6);
+  // A break stress it never reaches: no break; the default looks for none.
+  options.break_stress_pa = 1.01 * r.peak_stress_pa;
+  EXPECT_LT(solve_plate(m, rectangle(q, 3.0 * period), options).break_time_s, 0.0);
+  EXPECT_LT(solve_plate(m, rectangle(q, 3.0 * period)).break_time_s, 0.0);
+  // The real plate (membrane stress on): the stress at the break deflection is the strength, and
+  // the break comes before the peak.
+  const PlateModel real = plate_model(window_pane());
+  options.break_stress_pa = 45e6;
+  const PlateSdofResult pane = solve_plate(real, friedlander(80e3, 7e-3, 190.0), options);
+  ASSERT_GT(pane.break_time_s, 0.0);
+  EXPECT_LT(pane.break_time_s, pane.time_to_peak_s);
+  EXPECT_GT(pane.break_velocity_m_s, 0.0);
+}
+
 TEST(Plate, LinearModelGivesDlfTwoAndTheImpulsiveLimit) {
   PlateModel m = plate_model(window_pane());
   m.cubic_stiffness_n_per_m3 = 0.0;  // the linear SDOF: closed forms apply exactly

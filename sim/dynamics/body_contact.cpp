@@ -1,7 +1,7 @@
 // sim/dynamics/body_contact: sequential impulses over contacts between bodies, in stages —
 //   prepare    arms, tangents, effective masses, target normal speeds (restitution, gaps)
 //   warm start last step's impulses by contact key, friction kept inside its Coulomb disc
-//   sweeps     accumulated clamping, until a sweep changes velocities by under 1 um/s
+//   sweeps     accumulated clamping, until a sweep changes no body's velocity by 0.1 mm/s
 //   positions  the penetration beyond the slop, removed by shifts along the normals
 #include "sim/dynamics/body_contact.hpp"
 
@@ -30,14 +30,19 @@ inline void apply(SolverBody& a, SolverBody& b, const PairContact& c, const Vec3
 
 }  // namespace
 
-void solve_pair_contacts(std::vector<SolverBody>& bodies, std::vector<PairContact>& contacts,
-                         const ContactImpulses& last, ContactImpulses& next,
-                         const PairSolveSettings& settings) {
+int solve_pair_contacts(std::vector<SolverBody>& bodies, std::span<PairContact> contacts,
+                        const ContactImpulses& last, ContactImpulses& next,
+                        const PairSolveSettings& settings) {
   const double dt = settings.dt_s;
   // Prepare (the caller sets each contact's arms from the centres of mass).
+  std::vector<std::uint32_t> island;  // the moving bodies
   for (PairContact& c : contacts) {
-    const SolverBody& a = bodies[c.a];
-    const SolverBody& b = bodies[c.b];
+    SolverBody& a = bodies[c.a];
+    SolverBody& b = bodies[c.b];
+    for (std::uint32_t x : {c.a, c.b})
+      if (bodies[x].inverse_mass > 0.0) island.push_back(x);
+    a.reach_m = std::max(a.reach_m, c.arm_a.norm());
+    b.reach_m = std::max(b.reach_m, c.arm_b.norm());
     const Vec3& n = c.normal;
     // A tangent basis from the normal (any: friction is clamped on the disc, and the warm start
     // is kept as a world vector).
@@ -69,6 +74,8 @@ void solve_pair_contacts(std::vector<SolverBody>& bodies, std::vector<PairContac
     else
       c.target_speed = std::min(start_depth, 0.0) / dt;  // a gap may close within the step
   }
+  std::sort(island.begin(), island.end());
+  island.erase(std::unique(island.begin(), island.end()), island.end());
   // Warm start.
   for (PairContact& c : contacts) {
     const auto found = last.find(c.key);
@@ -89,9 +96,17 @@ void solve_pair_contacts(std::vector<SolverBody>& bodies, std::vector<PairContac
     apply(bodies[c.a], bodies[c.b], c, c.tangent_u, 1, fu);
     apply(bodies[c.a], bodies[c.b], c, c.tangent_v, 2, fv);
   }
-  // Sweeps.
-  for (int iteration = 0; iteration < settings.iterations; ++iteration) {
-    double largest = 0.0;  // velocity change of this sweep, m/s
+  // Sweeps, until one changes no body's velocity by more than settings.converged_m_s (at its
+  // farthest contact point). Judged on the bodies, not on each contact's impulse: where a body
+  // rests on more points than it needs (four corners of a brick), the sweeps keep passing
+  // impulse from one point to another long after the velocities have settled.
+  for (std::uint32_t x : island) {
+    bodies[x].swept_velocity = bodies[x].velocity;
+    bodies[x].swept_omega = bodies[x].omega;
+  }
+  int sweeps = 0;
+  while (sweeps < settings.iterations) {
+    ++sweeps;
     for (PairContact& c : contacts) {
       SolverBody& a = bodies[c.a];
       SolverBody& b = bodies[c.b];
@@ -115,12 +130,17 @@ void solve_pair_contacts(std::vector<SolverBody>& bodies, std::vector<PairContac
       c.friction_v = fv;
       apply(a, b, c, c.tangent_u, 1, du);
       apply(a, b, c, c.tangent_v, 2, dv);
-      largest = std::max({largest, std::abs(dn) / c.mass_normal, std::abs(du) / c.mass_u,
-                          std::abs(dv) / c.mass_v});
     }
-    if (largest < 1e-5) break;  // a further sweep would change velocities by under 10 um/s
+    double largest = 0.0;
+    for (std::uint32_t x : island) {
+      SolverBody& body = bodies[x];
+      largest = std::max(largest, (body.velocity - body.swept_velocity).norm() +
+                                      (body.omega - body.swept_omega).norm() * body.reach_m);
+      body.swept_velocity = body.velocity;
+      body.swept_omega = body.omega;
+    }
+    if (largest < settings.converged_m_s) break;
   }
-  next.clear();
   for (const PairContact& c : contacts)
     next[c.key] =
         c.normal_impulse * c.normal + c.friction_u * c.tangent_u + c.friction_v * c.tangent_v;
@@ -145,6 +165,7 @@ void solve_pair_contacts(std::vector<SolverBody>& bodies, std::vector<PairContac
       b.position_shift += shift * b.inverse_mass * c.normal;
     }
   }
+  return sweeps;
 }
 
 }  // namespace brisance::dynamics

@@ -7,6 +7,7 @@
 
 #include <array>
 #include <cstdint>
+#include <span>
 #include <unordered_map>
 #include <vector>
 
@@ -22,6 +23,10 @@ struct SolverBody {
   double inverse_mass = 0.0;
   Mat3 inverse_inertia = Mat3::Zero();
   Vec3 position_shift = Vec3::Zero();  // out of penetration, m (written by the solve)
+  // Used by the solve: the farthest contact point from the centre of mass, m, and the
+  // velocities at the end of the last sweep (for its convergence test).
+  double reach_m = 0.0;
+  Vec3 swept_velocity = Vec3::Zero(), swept_omega = Vec3::Zero();
 };
 
 inline const std::array<Vec3, 3> kZeros = {Vec3::Zero(), Vec3::Zero(), Vec3::Zero()};
@@ -56,12 +61,16 @@ struct PairSolveSettings {
   double dt_s;
   double bounce_threshold_m_s = 0.5;  // slower impacts do not bounce, as on the ground
   int iterations = 60;
+  // The sweeps stop once a sweep changes no body's velocity, at its farthest contact point, by
+  // more than this, m/s.
+  double converged_m_s = 1e-4;
   double slop_m = 5e-4;              // penetration left alone (no jitter)
   double position_correction = 0.6;  // of the penetration beyond the slop, per step
 };
 
-// Solves the contacts: velocities of `bodies` updated in place, each contact's impulses set,
-// and `next` filled with them for the next step's warm start.
+// Solves the contacts of one island (no body other than static ones, of zero inverse mass, is
+// in contacts outside it): velocities of `bodies` updated in place, each contact's impulses set,
+// and added to `next` for the next step's warm start.
 //
 // The contacts are found at the end of a step whose positions were advanced with the velocities
 // handed in (x1 = x0 + v dt); the caller moves each body again by (v' - v) dt with the solved
@@ -69,8 +78,9 @@ struct PairSolveSettings {
 // one's. Each contact's depth at the start of the step is its depth minus the approach it made
 // within the step; a gap there may close within the step, no more, and a penetration there is
 // not pushed out by velocity (which would add energy) but by the position shifts.
-void solve_pair_contacts(std::vector<SolverBody>& bodies, std::vector<PairContact>& contacts,
-                         const ContactImpulses& last, ContactImpulses& next,
-                         const PairSolveSettings& settings);
+// Returns the number of sweeps it took.
+int solve_pair_contacts(std::vector<SolverBody>& bodies, std::span<PairContact> contacts,
+                        const ContactImpulses& last, ContactImpulses& next,
+                        const PairSolveSettings& settings);
 
 }  // namespace brisance::dynamics

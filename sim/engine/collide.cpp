@@ -13,6 +13,7 @@
 #include <array>
 #include <cmath>
 #include <numeric>
+#include <span>
 
 #include "sim/engine/run.hpp"
 #include "sim/engine/sleeping.hpp"
@@ -329,10 +330,30 @@ void Run::collide(double dt) {
         }
       }
     }
-    // Bottom up, so a stack's weight is passed down within a sweep.
+    // Islands: the moving bodies joined by their contacts (static partners join nothing),
+    // each solved on its own, so that one settles in the sweeps it needs rather than in those
+    // of the slowest. Union-find over solver bodies, the smaller index the root.
+    auto& parent = state_.island_parent;
+    parent.resize(solver.size());
+    std::iota(parent.begin(), parent.end(), 0u);
+    auto root = [&](std::uint32_t x) {
+      while (parent[x] != x)
+        x = parent[x] = parent[parent[x]];
+      return x;
+    };
+    for (const dynamics::PairContact& c : contacts) {
+      if (c.a == 0 || c.b == 0) continue;
+      const std::uint32_t ra = root(c.a), rb = root(c.b);
+      if (ra != rb) parent[std::max(ra, rb)] = std::min(ra, rb);
+    }
+    // By island, then bottom up within it, so a stack's weight is passed down within a sweep.
+    std::vector<std::uint32_t> island(contacts.size());
+    for (std::size_t i = 0; i < contacts.size(); ++i)
+      island[i] = root(contacts[i].a != 0 ? contacts[i].a : contacts[i].b);
     std::vector<std::size_t> by_height(contacts.size());
     std::iota(by_height.begin(), by_height.end(), std::size_t{0});
     std::sort(by_height.begin(), by_height.end(), [&](std::size_t x, std::size_t y) {
+      if (island[x] != island[y]) return island[x] < island[y];
       if (contacts[x].point.y() != contacts[y].point.y())
         return contacts[x].point.y() < contacts[y].point.y();
       return contacts[x].key < contacts[y].key;
@@ -349,8 +370,16 @@ void Run::collide(double dt) {
     dynamics::PairSolveSettings settings;
     settings.dt_s = dt;
     const std::vector<dynamics::SolverBody> before = solver;
-    dynamics::solve_pair_contacts(solver, sorted, state_.contact_impulses,
-                                  state_.next_contact_impulses, settings);
+    state_.next_contact_impulses.clear();
+    for (std::size_t first = 0; first < sorted.size();) {
+      std::size_t last = first + 1;
+      while (last < sorted.size() && island[by_height[last]] == island[by_height[first]])
+        ++last;
+      dynamics::solve_pair_contacts(
+          solver, std::span<dynamics::PairContact>(sorted.data() + first, last - first),
+          state_.contact_impulses, state_.next_contact_impulses, settings);
+      first = last;
+    }
     std::swap(state_.contact_impulses, state_.next_contact_impulses);
     // The step's motion redone with the solved velocities (body_contact.hpp): each body moves
     // and turns by its change of velocity over the step, then out of what penetration is left.

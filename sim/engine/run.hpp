@@ -75,6 +75,7 @@ struct RunState {
   std::vector<std::uint32_t> contact_held, sorted_held;
   std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;
   std::vector<double> margin;
+  std::vector<std::uint32_t> island_parent;  // union-find over the solve's bodies
   // `auto`: pairs of a fragment and an anchored body (its frame) meeting at the start.
   std::unordered_set<std::uint64_t> start_neighbours;
   std::unordered_set<std::uint64_t> touching_pairs, next_touching_pairs;  // contact_key(a, b, 0)

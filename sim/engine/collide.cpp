@@ -369,6 +369,11 @@ void Run::collide(double dt) {
     result_.stats.contact_points += sorted.size();
     dynamics::PairSolveSettings settings;
     settings.dt_s = dt;
+    // Warm start as forces: last step's impulses in proportion to the step's length, at most
+    // doubled (an impact's impulse in a tiny step is no force to scale up).
+    if (state_.contact_impulses_dt_s > 0.0)
+      settings.warm_start_scale = std::min(dt / state_.contact_impulses_dt_s, 2.0);
+    state_.contact_impulses_dt_s = dt;
     const std::vector<dynamics::SolverBody> before = solver;
     state_.next_contact_impulses.clear();
     for (std::size_t first = 0; first < sorted.size();) {

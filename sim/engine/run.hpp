@@ -64,6 +64,7 @@ struct RunState {
   std::vector<Vec3> box_min, box_max;  // world boxes, grown by the step's motion
   std::vector<std::uint32_t> sweep_order;
   dynamics::ContactImpulses contact_impulses, next_contact_impulses;
+  double contact_impulses_dt_s = 0.0;  // the step contact_impulses were solved in
   std::vector<std::uint8_t> touching_body;
   // The bodies integrated this step and whether each touched the ground: with contacts between
   // bodies, sleeping is judged after them (sleep_after_contacts).

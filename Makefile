@@ -19,9 +19,11 @@ DEPLOY_TEST_DEB_PACKAGES := systemd strace shellcheck
 # Only the fuzz targets need these (tests/fuzz): Debian 12's clang 14 and its compiler-rt, which
 # has libFuzzer and the sanitizer runtimes.
 FUZZ_DEB_PACKAGES := clang libclang-rt-14-dev
-# Only make narrowphase-bench needs this (the narrowphase against libccd, issue 13); the product
-# does not link it and bench/CMakeLists.txt builds the bench only where it is installed.
-BENCH_DEB_PACKAGES := libccd-dev
+# Benches only (issue 13): libccd for make narrowphase-bench (the narrowphase against libccd),
+# Bullet for the side-by-side brick wall in step_bench (make bench). The product links neither;
+# bench/CMakeLists.txt builds each comparison only where its package is installed, and make
+# narrowphase-bench installs both.
+BENCH_DEB_PACKAGES := libccd-dev libbullet-dev
 # Seconds `make fuzz` runs each fuzz target.
 FUZZ_SECONDS ?= 60
 FUZZ_TARGETS := fuzz_scene fuzz_http fuzz_writers fuzz_fracture

@@ -1,7 +1,8 @@
 // sim/dynamics/body_contact: sequential impulses over contacts between bodies, in stages —
 //   prepare    arms, tangents, effective masses, target normal speeds (restitution, gaps)
 //   warm start last step's impulses by contact key, friction kept inside its Coulomb disc
-//   sweeps     accumulated clamping, until a sweep changes no body's velocity by 0.1 mm/s
+//   sweeps     accumulated clamping, until a sweep changes no body's velocity by more than
+//              30 um/s or 0.3 % of the island's slowest body's speed
 //   positions  the penetration beyond the slop, removed by shifts along the normals
 #include "sim/dynamics/body_contact.hpp"
 
@@ -96,9 +97,9 @@ int solve_pair_contacts(std::vector<SolverBody>& bodies, std::span<PairContact> 
     apply(bodies[c.a], bodies[c.b], c, c.tangent_u, 1, fu);
     apply(bodies[c.a], bodies[c.b], c, c.tangent_v, 2, fv);
   }
-  // Sweeps, until one changes no body's velocity by more than settings.converged_m_s (at its
-  // farthest contact point). Judged on the bodies, not on each contact's impulse: where a body
-  // rests on more points than it needs (four corners of a brick), the sweeps keep passing
+  // Sweeps, until one changes no body's velocity by more than the tolerance (at its farthest
+  // contact point; PairSolveSettings). Judged on the bodies, not on each contact's impulse: where a
+  // body rests on more points than it needs (four corners of a brick), the sweeps keep passing
   // impulse from one point to another long after the velocities have settled.
   for (std::uint32_t x : island) {
     bodies[x].swept_velocity = bodies[x].velocity;
@@ -121,6 +122,11 @@ int solve_pair_contacts(std::vector<SolverBody>& bodies, std::span<PairContact> 
                        c.tangent_u, c.tangent_v, c.lever_a, c.lever_b, c.spin_a, c.spin_b,
                        c.mass_normal, c.mass_u, c.mass_v, c.target_speed, c.friction,
                        c.normal_impulse, c.friction_u, c.friction_v});
+  double slowest = INFINITY;
+  for (std::uint32_t x : island)
+    slowest =
+        std::min(slowest, bodies[x].velocity.norm() + bodies[x].omega.norm() * bodies[x].reach_m);
+  const double converged = std::max(settings.converged_m_s, settings.converged_fraction * slowest);
   int sweeps = 0;
   while (sweeps < settings.iterations) {
     ++sweeps;
@@ -166,7 +172,7 @@ int solve_pair_contacts(std::vector<SolverBody>& bodies, std::span<PairContact> 
       body.swept_velocity = body.velocity;
       body.swept_omega = body.omega;
     }
-    if (largest < settings.converged_m_s) break;
+    if (largest < converged) break;
   }
   for (std::size_t i = 0; i < rows.size(); ++i) {
     contacts[i].normal_impulse = rows[i].normal_impulse;

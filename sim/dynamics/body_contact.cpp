@@ -41,7 +41,10 @@ int solve_pair_contacts(std::vector<SolverBody>& bodies, std::span<PairContact> 
     SolverBody& a = bodies[c.a];
     SolverBody& b = bodies[c.b];
     for (std::uint32_t x : {c.a, c.b})
-      if (bodies[x].inverse_mass > 0.0) island.push_back(x);
+      if (bodies[x].inverse_mass > 0.0 && !bodies[x].listed) {
+        bodies[x].listed = true;
+        island.push_back(x);
+      }
     a.reach_m = std::max(a.reach_m, c.arm_a.norm());
     b.reach_m = std::max(b.reach_m, c.arm_b.norm());
     const Vec3& n = c.normal;
@@ -75,8 +78,6 @@ int solve_pair_contacts(std::vector<SolverBody>& bodies, std::span<PairContact> 
     else
       c.target_speed = std::min(start_depth, 0.0) / dt;  // a gap may close within the step
   }
-  std::sort(island.begin(), island.end());
-  island.erase(std::unique(island.begin(), island.end()), island.end());
   // Warm start.
   for (PairContact& c : contacts) {
     const auto found = last.find(c.key);

@@ -26,6 +26,7 @@ struct SolverBody {
   // Used by the solve: the farthest contact point from the centre of mass, m, and the
   // velocities at the end of the last sweep (for its convergence test).
   double reach_m = 0.0;
+  bool listed = false;  // in the island's list of moving bodies
   Vec3 swept_velocity = Vec3::Zero(), swept_omega = Vec3::Zero();
 };
 

@@ -350,14 +350,24 @@ void Run::collide(double dt) {
     std::vector<std::uint32_t> island(contacts.size());
     for (std::size_t i = 0; i < contacts.size(); ++i)
       island[i] = root(contacts[i].a != 0 ? contacts[i].a : contacts[i].b);
-    std::vector<std::size_t> by_height(contacts.size());
-    std::iota(by_height.begin(), by_height.end(), std::size_t{0});
-    std::sort(by_height.begin(), by_height.end(), [&](std::size_t x, std::size_t y) {
-      if (island[x] != island[y]) return island[x] < island[y];
-      if (contacts[x].point.y() != contacts[y].point.y())
-        return contacts[x].point.y() < contacts[y].point.y();
-      return contacts[x].key < contacts[y].key;
+    // (Sorted on packed keys: the comparisons then read no contact.)
+    struct Order {
+      std::uint32_t island;
+      double height;
+      std::uint64_t key;
+      std::size_t index;
+    };
+    std::vector<Order> order_keys(contacts.size());
+    for (std::size_t i = 0; i < contacts.size(); ++i)
+      order_keys[i] = Order{island[i], contacts[i].point.y(), contacts[i].key, i};
+    std::sort(order_keys.begin(), order_keys.end(), [](const Order& x, const Order& y) {
+      if (x.island != y.island) return x.island < y.island;
+      if (x.height != y.height) return x.height < y.height;
+      return x.key < y.key;
     });
+    std::vector<std::size_t> by_height(contacts.size());
+    for (std::size_t i = 0; i < contacts.size(); ++i)
+      by_height[i] = order_keys[i].index;
     auto& sorted = state_.sorted_contacts;
     auto& sorted_held = state_.sorted_held;
     sorted.clear();

@@ -81,6 +81,27 @@ brisance::scene::Scene brick_wall_scene() {
   return *parsed.scene;
 }
 
+// 16 walls of scenes/brick_wall.json (528 bricks), in a 4 x 4 grid 60 m apart, each with its
+// charge 15 m in front of it as there (the issue's 528-brick case).
+brisance::scene::Scene brick_walls_16_scene() {
+  std::string charges, generators;
+  for (int i = 0; i < 16; ++i) {
+    const std::string x = std::to_string(60 * (i % 4)), z = std::to_string(60 * (i / 4));
+    const std::string charge_z = std::to_string(60 * (i / 4) - 15);
+    charges += std::string(i ? "," : "") + "{\"position\": [" + x + ", 0.5, " + charge_z +
+               "], \"mass\": 100, \"explosive\": \"TNT\", \"burst\": \"air\"}";
+    generators += std::string(i ? "," : "") + "{\"type\": \"brick_wall\", \"name\": \"wall" +
+                  std::to_string(i) + "\", \"position\": [" + x + ", 0, " + z +
+                  "], \"rows\": 6, \"columns\": 5, \"brick_size\": [0.4, 0.15, 0.1], "
+                  "\"brick_mass\": 10, \"friction\": 0.6}";
+  }
+  const auto parsed = brisance::scene::parse_scene_text(
+      "{\"charges\": [" + charges + "], \"generators\": [" + generators +
+      "], \"simulation\": {\"duration\": 2, \"frame_rate\": 30}}");
+  if (!parsed.scene) return {};
+  return *parsed.scene;
+}
+
 struct BodyPose {
   Vector3d position;
   Eigen::Quaterniond orientation;
@@ -156,6 +177,28 @@ void BM_BrickWall(benchmark::State& state) {
 }
 BENCHMARK(BM_BrickWall)->ArgName("collisions")->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 
+// The 528-brick case of issue 13 (goal: at least 3x faster than Bullet), contacts off or auto.
+void BM_BrickWalls16(benchmark::State& state) {
+  brisance::scene::Scene scene = brick_walls_16_scene();
+  if (scene.objects.size() != 528) {
+    state.SkipWithError("the 16 walls do not parse");
+    return;
+  }
+  scene.simulation.collisions = state.range(0) != 0 ? brisance::scene::CollisionMode::automatic
+                                                    : brisance::scene::CollisionMode::off;
+  brisance::engine::Result last;
+  for (auto _ : state) {
+    auto outcome = simulate(scene);
+    benchmark::DoNotOptimize(outcome.result.poses.data());
+    last = std::move(outcome.result);
+  }
+  double ground_depth = 0.0;
+  state.counters["deepest_overlap_mm"] =
+      1e3 * deepest_overlap(last.bodies, final_poses(last), &ground_depth);
+  state.counters["below_ground_mm"] = 1e3 * ground_depth;
+}
+BENCHMARK(BM_BrickWalls16)->ArgName("collisions")->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
+
 #ifdef BRISANCE_HAVE_BULLET
 // The same wall in Bullet (btDiscreteDynamicsWorld, its default sequential-impulse solver with
 // 10 iterations, box shapes, a ground plane), handed over from Brisance once the blast has
@@ -167,23 +210,22 @@ BENCHMARK(BM_BrickWall)->ArgName("collisions")->Arg(0)->Arg(1)->Unit(benchmark::
 // kHandover_s.
 constexpr double kHandover_s = 0.1;
 
-struct Handover {
-  brisance::engine::Result result;  // Brisance's wall at kHandover_s
-};
-
-const Handover& handover() {
-  static const Handover h = [] {
-    brisance::scene::Scene scene = brick_wall_scene();
+// Brisance's walls at kHandover_s (one wall, or the 16 walls).
+const brisance::engine::Result& handover(bool sixteen) {
+  auto at_handover = [](brisance::scene::Scene scene) {
     scene.simulation.collisions = brisance::scene::CollisionMode::automatic;
     scene.simulation.duration_s = kHandover_s;
     scene.simulation.frame_rate_hz = 1.0 / kHandover_s;
-    return Handover{simulate(scene).result};
-  }();
-  return h;
+    return simulate(scene).result;
+  };
+  static const brisance::engine::Result one = at_handover(brick_wall_scene());
+  if (!sixteen) return one;
+  static const brisance::engine::Result many = at_handover(brick_walls_16_scene());
+  return many;
 }
 
-void BM_BulletBrickWall(benchmark::State& state) {
-  const Handover& start = handover();
+void bullet_walls(benchmark::State& state, bool sixteen) {
+  const brisance::engine::Result& start = handover(sixteen);
   const double rate_hz = static_cast<double>(state.range(0));
   const int steps = static_cast<int>(std::lround((2.0 - kHandover_s) * rate_hz));
   const double brick_friction = std::sqrt(0.6), ground_friction = 0.5 / brick_friction;
@@ -203,9 +245,9 @@ void BM_BulletBrickWall(benchmark::State& state) {
     world.addRigidBody(&ground);
     std::vector<std::unique_ptr<btBoxShape>> shapes;
     std::vector<std::unique_ptr<btRigidBody>> bodies;
-    for (std::size_t b = 0; b < start.result.bodies.size(); ++b) {
-      const auto& info = start.result.bodies[b];
-      const auto& f = start.result.final_state[b];
+    for (std::size_t b = 0; b < start.bodies.size(); ++b) {
+      const auto& info = start.bodies[b];
+      const auto& f = start.final_state[b];
       Vector3d low = info.mesh.vertices.front(), high = low;
       for (const auto& v : info.mesh.vertices) {
         low = low.cwiseMin(v);
@@ -249,8 +291,8 @@ void BM_BulletBrickWall(benchmark::State& state) {
       const btTransform& t = bodies[b]->getWorldTransform();
       const btQuaternion r = t.getRotation();
       const Eigen::Quaterniond q(r.w(), r.x(), r.y(), r.z());
-      Vector3d low = start.result.bodies[b].mesh.vertices.front(), high = low;
-      for (const auto& v : start.result.bodies[b].mesh.vertices) {
+      Vector3d low = start.bodies[b].mesh.vertices.front(), high = low;
+      for (const auto& v : start.bodies[b].mesh.vertices) {
         low = low.cwiseMin(v);
         high = high.cwiseMax(v);
       }
@@ -263,11 +305,19 @@ void BM_BulletBrickWall(benchmark::State& state) {
     world.removeRigidBody(&ground);
   }
   double ground_depth = 0.0;
-  state.counters["deepest_overlap_mm"] =
-      1e3 * deepest_overlap(start.result.bodies, poses, &ground_depth);
+  state.counters["deepest_overlap_mm"] = 1e3 * deepest_overlap(start.bodies, poses, &ground_depth);
   state.counters["below_ground_mm"] = 1e3 * ground_depth;
 }
+void BM_BulletBrickWall(benchmark::State& state) {
+  bullet_walls(state, false);
+}
 BENCHMARK(BM_BulletBrickWall)->ArgName("hz")->Arg(60)->Arg(240)->Unit(benchmark::kMillisecond);
+
+// The 16 walls (compare with BM_BrickWalls16/collisions:1).
+void BM_BulletBrickWalls16(benchmark::State& state) {
+  bullet_walls(state, true);
+}
+BENCHMARK(BM_BulletBrickWalls16)->ArgName("hz")->Arg(60)->Arg(240)->Unit(benchmark::kMillisecond);
 #endif
 
 }  // namespace

@@ -19,14 +19,16 @@ DEPLOY_TEST_DEB_PACKAGES := systemd strace shellcheck
 # Only the fuzz targets need these (tests/fuzz): Debian 12's clang 14 and its compiler-rt, which
 # has libFuzzer and the sanitizer runtimes.
 FUZZ_DEB_PACKAGES := clang libclang-rt-14-dev
-# Only make narrowphase-bench needs this (the narrowphase against libccd, issue 13); the product
-# does not link it and bench/CMakeLists.txt builds the bench only where it is installed.
+# Benches only (issue 13): libccd for make narrowphase-bench (the narrowphase against libccd),
+# Bullet for the side-by-side brick wall in step_bench (make bench). The product links neither;
+# bench/CMakeLists.txt builds each comparison only where its package is installed, and make
+# narrowphase-bench installs both.
 BENCH_DEB_PACKAGES := libccd-dev libbullet-dev
 # Seconds `make fuzz` runs each fuzz target.
 FUZZ_SECONDS ?= 60
 FUZZ_TARGETS := fuzz_scene fuzz_http fuzz_writers fuzz_fracture
 
-.PHONY: all deps node gltf-validator web web-test-deps deploy-test-deps fuzz-deps fuzz-build fuzz soak build run test sanitize bench narrowphase-bench peer-bench load-bench load-bench-postgres accuracy-study format clean
+.PHONY: all deps node gltf-validator web web-test-deps deploy-test-deps fuzz-deps fuzz-build fuzz soak build run test sanitize bench narrowphase-bench load-bench load-bench-postgres accuracy-study format clean
 
 all: build
 
@@ -157,14 +159,6 @@ narrowphase-bench: build
 	cmake -S . -B $(BUILD_DIR)/release -U__pkg_config_checked_CCD
 	cmake --build $(BUILD_DIR)/release -j $(JOBS) --target narrowphase_bench
 	$(BUILD_DIR)/release/bench/narrowphase_bench
-
-# The brick wall against Bullet on the same debris, in one invocation
-# (bench/results/peer_bench.txt).
-peer-bench: build
-	$(call apt_install,$(BENCH_DEB_PACKAGES))
-	cmake -S . -B $(BUILD_DIR)/release -U__pkg_config_checked_BULLET
-	cmake --build $(BUILD_DIR)/release -j $(JOBS) --target wall_peer_bench
-	$(BUILD_DIR)/release/bench/wall_peer_bench
 
 # The job service under load: POST, GET, fixed-rate and drain phases against a spawned server.
 load-bench: build

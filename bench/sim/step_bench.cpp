@@ -1,11 +1,21 @@
 // Simulator benchmarks: the brick wall end to end (goal: under 5 ms for 2 s at 30 fps on one
 // core) and stepping throughput of free bodies (goal: 10 000 bodies at >= 5 million body-steps
-// per second). Run: make bench.
+// per second). Where Bullet is installed (Debian libbullet-dev, BENCH_DEB_PACKAGES in the
+// Makefile), the same wall stepped by Bullet's btDiscreteDynamicsWorld side by side (issue 13).
+// Run: make bench.
+#include <algorithm>
+#include <cmath>
 #include <fstream>
+#include <memory>
 #include <sstream>
 
 #include <benchmark/benchmark.h>
 
+#ifdef BRISANCE_HAVE_BULLET
+#include <btBulletDynamicsCommon.h>
+#endif
+
+#include "sim/dynamics/convex.hpp"
 #include "sim/engine/simulator.hpp"
 #include "sim/scene/scene.hpp"
 #include "tests/sim/engine/scene_builder.hpp"
@@ -62,30 +72,253 @@ void BM_Debris(benchmark::State& state) {
 }
 BENCHMARK(BM_Debris)->Arg(1000)->Unit(benchmark::kMillisecond);
 
-// Goal: scenes/brick_wall.json (2 s at 30 fps) in under 5 ms of simulation on one core.
-// Argument: contacts between bodies off (0, the wall before issue 13) or auto (1, the default).
-void BM_BrickWall(benchmark::State& state) {
+brisance::scene::Scene brick_wall_scene() {
   std::ifstream in(std::string(BRISANCE_SOURCE_DIR) + "/scenes/brick_wall.json");
   std::stringstream text;
   text << in.rdbuf();
   const auto parsed = brisance::scene::parse_scene_text(text.str());
-  if (!parsed.scene) {
+  if (!parsed.scene) return {};
+  return *parsed.scene;
+}
+
+// 16 walls of scenes/brick_wall.json (528 bricks), in a 4 x 4 grid 60 m apart, each with its
+// charge 15 m in front of it as there (the issue's 528-brick case).
+brisance::scene::Scene brick_walls_16_scene() {
+  std::string charges, generators;
+  for (int i = 0; i < 16; ++i) {
+    const std::string x = std::to_string(60 * (i % 4)), z = std::to_string(60 * (i / 4));
+    const std::string charge_z = std::to_string(60 * (i / 4) - 15);
+    charges += std::string(i ? "," : "") + "{\"position\": [" + x + ", 0.5, " + charge_z +
+               "], \"mass\": 100, \"explosive\": \"TNT\", \"burst\": \"air\"}";
+    generators += std::string(i ? "," : "") + "{\"type\": \"brick_wall\", \"name\": \"wall" +
+                  std::to_string(i) + "\", \"position\": [" + x + ", 0, " + z +
+                  "], \"rows\": 6, \"columns\": 5, \"brick_size\": [0.4, 0.15, 0.1], "
+                  "\"brick_mass\": 10, \"friction\": 0.6}";
+  }
+  const auto parsed = brisance::scene::parse_scene_text(
+      "{\"charges\": [" + charges + "], \"generators\": [" + generators +
+      "], \"simulation\": {\"duration\": 2, \"frame_rate\": 30}}");
+  if (!parsed.scene) return {};
+  return *parsed.scene;
+}
+
+struct BodyPose {
+  Vector3d position;
+  Eigen::Quaterniond orientation;
+};
+
+// The deepest overlap of any two bodies at the given poses of their meshes' frames, m (the
+// narrowphase with no margin), as the Contacts tests measure it; and how deep any vertex lies
+// below the ground (y = 0), m.
+double deepest_overlap(const std::vector<brisance::engine::BodyInfo>& bodies,
+                       const std::vector<BodyPose>& poses, double* ground_depth_m) {
+  std::vector<std::vector<brisance::dynamics::PlacedPiece>> placed(bodies.size());
+  std::vector<brisance::dynamics::CollisionShape> shapes;
+  for (std::size_t b = 0; b < bodies.size(); ++b) {
+    shapes.push_back(brisance::dynamics::collision_shape(bodies[b].mesh, Vector3d::Zero()));
+    for (const auto& piece : shapes.back().pieces) {
+      placed[b].emplace_back();
+      brisance::dynamics::place(piece, poses[b].position, poses[b].orientation.toRotationMatrix(),
+                                placed[b].back());
+    }
+  }
+  double deepest = 0.0;
+  brisance::dynamics::Manifold manifold;
+  if (ground_depth_m) {
+    *ground_depth_m = 0.0;
+    for (std::size_t b = 0; b < bodies.size(); ++b)
+      for (const auto& v : bodies[b].mesh.vertices)
+        *ground_depth_m =
+            std::max(*ground_depth_m, -(poses[b].position + poses[b].orientation * v).y());
+  }
+  for (std::size_t a = 0; a < placed.size(); ++a)
+    for (std::size_t b = a + 1; b < placed.size(); ++b)
+      for (const auto& pa : placed[a])
+        for (const auto& pb : placed[b])
+          if (brisance::dynamics::collide(pa, pb, 0.0, 0, manifold))
+            for (const auto& point : manifold.points)
+              deepest = std::max(deepest, point.depth_m);
+  return deepest;
+}
+
+std::vector<BodyPose> final_poses(const brisance::engine::Result& r) {
+  std::vector<BodyPose> poses;
+  for (const auto& f : r.final_state)
+    poses.push_back({Vector3d(f.pose.position[0], f.pose.position[1], f.pose.position[2]),
+                     Eigen::Quaterniond(f.pose.orientation[3], f.pose.orientation[0],
+                                        f.pose.orientation[1], f.pose.orientation[2])});
+  return poses;
+}
+
+// Goal: scenes/brick_wall.json (2 s at 30 fps) in under 5 ms of simulation on one core.
+// Argument: contacts between bodies off (0, the wall before issue 13) or auto (1).
+void BM_BrickWall(benchmark::State& state) {
+  brisance::scene::Scene scene = brick_wall_scene();
+  if (scene.objects.empty()) {
     state.SkipWithError("scenes/brick_wall.json does not parse");
     return;
   }
-  brisance::scene::Scene scene = *parsed.scene;
   scene.simulation.collisions = state.range(0) != 0 ? brisance::scene::CollisionMode::automatic
                                                     : brisance::scene::CollisionMode::off;
   std::uint64_t contact_points = 0;
+  brisance::engine::Result last;
   for (auto _ : state) {
-    const auto outcome = simulate(scene);
+    auto outcome = simulate(scene);
     contact_points += outcome.result.stats.contact_points;
     benchmark::DoNotOptimize(outcome.result.poses.data());
+    last = std::move(outcome.result);
   }
   state.counters["contact_points"] =
       benchmark::Counter(static_cast<double>(contact_points), benchmark::Counter::kAvgIterations);
+  double ground_depth = 0.0;
+  state.counters["deepest_overlap_mm"] =
+      1e3 * deepest_overlap(last.bodies, final_poses(last), &ground_depth);
+  state.counters["below_ground_mm"] = 1e3 * ground_depth;
 }
 BENCHMARK(BM_BrickWall)->ArgName("collisions")->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
+
+// The 528-brick case of issue 13 (goal: at least 3x faster than Bullet), contacts off or auto.
+void BM_BrickWalls16(benchmark::State& state) {
+  brisance::scene::Scene scene = brick_walls_16_scene();
+  if (scene.objects.size() != 528) {
+    state.SkipWithError("the 16 walls do not parse");
+    return;
+  }
+  scene.simulation.collisions = state.range(0) != 0 ? brisance::scene::CollisionMode::automatic
+                                                    : brisance::scene::CollisionMode::off;
+  brisance::engine::Result last;
+  for (auto _ : state) {
+    auto outcome = simulate(scene);
+    benchmark::DoNotOptimize(outcome.result.poses.data());
+    last = std::move(outcome.result);
+  }
+  double ground_depth = 0.0;
+  state.counters["deepest_overlap_mm"] =
+      1e3 * deepest_overlap(last.bodies, final_poses(last), &ground_depth);
+  state.counters["below_ground_mm"] = 1e3 * ground_depth;
+}
+BENCHMARK(BM_BrickWalls16)->ArgName("collisions")->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
+
+#ifdef BRISANCE_HAVE_BULLET
+// The same wall in Bullet (btDiscreteDynamicsWorld, its default sequential-impulse solver with
+// 10 iterations, box shapes, a ground plane), handed over from Brisance once the blast has
+// passed: each brick's pose and velocities at kHandover_s of BM_BrickWall/collisions:1, then
+// stepped at a fixed rate to 2 s. Materials as in the scene: Bullet multiplies the two bodies'
+// friction and restitution, so each body gets the square root of the pair's (bricks 0.6
+// together, 0.5 and restitution 0.2 on the ground as Brisance's default ground). Argument: steps
+// per second. Compare with BM_BrickWall/collisions:1, which also runs the blast and the first
+// kHandover_s.
+constexpr double kHandover_s = 0.1;
+
+// Brisance's walls at kHandover_s (one wall, or the 16 walls).
+const brisance::engine::Result& handover(bool sixteen) {
+  auto at_handover = [](brisance::scene::Scene scene) {
+    scene.simulation.collisions = brisance::scene::CollisionMode::automatic;
+    scene.simulation.duration_s = kHandover_s;
+    scene.simulation.frame_rate_hz = 1.0 / kHandover_s;
+    return simulate(scene).result;
+  };
+  static const brisance::engine::Result one = at_handover(brick_wall_scene());
+  if (!sixteen) return one;
+  static const brisance::engine::Result many = at_handover(brick_walls_16_scene());
+  return many;
+}
+
+void bullet_walls(benchmark::State& state, bool sixteen) {
+  const brisance::engine::Result& start = handover(sixteen);
+  const double rate_hz = static_cast<double>(state.range(0));
+  const int steps = static_cast<int>(std::lround((2.0 - kHandover_s) * rate_hz));
+  const double brick_friction = std::sqrt(0.6), ground_friction = 0.5 / brick_friction;
+  const double restitution = std::sqrt(0.2);
+  std::vector<BodyPose> poses;
+  for (auto _ : state) {
+    btDefaultCollisionConfiguration configuration;
+    btCollisionDispatcher dispatcher(&configuration);
+    btDbvtBroadphase broadphase;
+    btSequentialImpulseConstraintSolver solver;
+    btDiscreteDynamicsWorld world(&dispatcher, &broadphase, &solver, &configuration);
+    world.setGravity(btVector3(0, -9.81f, 0));
+    btStaticPlaneShape ground_shape(btVector3(0, 1, 0), 0);
+    btRigidBody ground(btRigidBody::btRigidBodyConstructionInfo(0, nullptr, &ground_shape));
+    ground.setFriction(static_cast<btScalar>(ground_friction));
+    ground.setRestitution(static_cast<btScalar>(restitution));
+    world.addRigidBody(&ground);
+    std::vector<std::unique_ptr<btBoxShape>> shapes;
+    std::vector<std::unique_ptr<btRigidBody>> bodies;
+    for (std::size_t b = 0; b < start.bodies.size(); ++b) {
+      const auto& info = start.bodies[b];
+      const auto& f = start.final_state[b];
+      Vector3d low = info.mesh.vertices.front(), high = low;
+      for (const auto& v : info.mesh.vertices) {
+        low = low.cwiseMin(v);
+        high = high.cwiseMax(v);
+      }
+      const Vector3d half = 0.5 * (high - low), centre = 0.5 * (high + low);
+      shapes.push_back(std::make_unique<btBoxShape>(btVector3(static_cast<btScalar>(half.x()),
+                                                              static_cast<btScalar>(half.y()),
+                                                              static_cast<btScalar>(half.z()))));
+      const btScalar mass = static_cast<btScalar>(info.mass_kg);
+      btVector3 inertia;
+      shapes.back()->calculateLocalInertia(mass, inertia);
+      const Eigen::Quaterniond q(f.pose.orientation[3], f.pose.orientation[0],
+                                 f.pose.orientation[1], f.pose.orientation[2]);
+      const Vector3d at =
+          Vector3d(f.pose.position[0], f.pose.position[1], f.pose.position[2]) + q * centre;
+      btTransform transform(
+          btQuaternion(static_cast<btScalar>(q.x()), static_cast<btScalar>(q.y()),
+                       static_cast<btScalar>(q.z()), static_cast<btScalar>(q.w())),
+          btVector3(static_cast<btScalar>(at.x()), static_cast<btScalar>(at.y()),
+                    static_cast<btScalar>(at.z())));
+      btRigidBody::btRigidBodyConstructionInfo construction(mass, nullptr, shapes.back().get(),
+                                                            inertia);
+      construction.m_startWorldTransform = transform;
+      bodies.push_back(std::make_unique<btRigidBody>(construction));
+      btRigidBody& body = *bodies.back();
+      body.setFriction(static_cast<btScalar>(brick_friction));
+      body.setRestitution(static_cast<btScalar>(restitution));
+      body.setLinearVelocity(btVector3(static_cast<btScalar>(f.linear_velocity_m_s[0]),
+                                       static_cast<btScalar>(f.linear_velocity_m_s[1]),
+                                       static_cast<btScalar>(f.linear_velocity_m_s[2])));
+      body.setAngularVelocity(btVector3(static_cast<btScalar>(f.angular_velocity_rad_s[0]),
+                                        static_cast<btScalar>(f.angular_velocity_rad_s[1]),
+                                        static_cast<btScalar>(f.angular_velocity_rad_s[2])));
+      world.addRigidBody(&body);
+    }
+    for (int k = 0; k < steps; ++k)
+      world.stepSimulation(static_cast<btScalar>(1.0 / rate_hz), 0);
+    poses.clear();
+    for (std::size_t b = 0; b < bodies.size(); ++b) {
+      const btTransform& t = bodies[b]->getWorldTransform();
+      const btQuaternion r = t.getRotation();
+      const Eigen::Quaterniond q(r.w(), r.x(), r.y(), r.z());
+      Vector3d low = start.bodies[b].mesh.vertices.front(), high = low;
+      for (const auto& v : start.bodies[b].mesh.vertices) {
+        low = low.cwiseMin(v);
+        high = high.cwiseMax(v);
+      }
+      const Vector3d centre = 0.5 * (high + low);
+      poses.push_back(
+          {Vector3d(t.getOrigin().x(), t.getOrigin().y(), t.getOrigin().z()) - q * centre, q});
+    }
+    for (auto& body : bodies)
+      world.removeRigidBody(body.get());
+    world.removeRigidBody(&ground);
+  }
+  double ground_depth = 0.0;
+  state.counters["deepest_overlap_mm"] = 1e3 * deepest_overlap(start.bodies, poses, &ground_depth);
+  state.counters["below_ground_mm"] = 1e3 * ground_depth;
+}
+void BM_BulletBrickWall(benchmark::State& state) {
+  bullet_walls(state, false);
+}
+BENCHMARK(BM_BulletBrickWall)->ArgName("hz")->Arg(60)->Arg(240)->Unit(benchmark::kMillisecond);
+
+// The 16 walls (compare with BM_BrickWalls16/collisions:1).
+void BM_BulletBrickWalls16(benchmark::State& state) {
+  bullet_walls(state, true);
+}
+BENCHMARK(BM_BulletBrickWalls16)->ArgName("hz")->Arg(60)->Arg(240)->Unit(benchmark::kMillisecond);
+#endif
 
 }  // namespace
 

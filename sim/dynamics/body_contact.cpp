@@ -1,7 +1,8 @@
 // sim/dynamics/body_contact: sequential impulses over contacts between bodies, in stages —
 //   prepare    arms, tangents, effective masses, target normal speeds (restitution, gaps)
 //   warm start last step's impulses by contact key, friction kept inside its Coulomb disc
-//   sweeps     accumulated clamping, until a sweep changes velocities by under 1 um/s
+//   sweeps     accumulated clamping, until a sweep changes no body's velocity by more than
+//              30 um/s or 0.3 % of the island's slowest body's speed
 //   positions  the penetration beyond the slop, removed by shifts along the normals
 #include "sim/dynamics/body_contact.hpp"
 
@@ -30,14 +31,22 @@ inline void apply(SolverBody& a, SolverBody& b, const PairContact& c, const Vec3
 
 }  // namespace
 
-void solve_pair_contacts(std::vector<SolverBody>& bodies, std::vector<PairContact>& contacts,
-                         const ContactImpulses& last, ContactImpulses& next,
-                         const PairSolveSettings& settings) {
+int solve_pair_contacts(std::vector<SolverBody>& bodies, std::span<PairContact> contacts,
+                        const ContactImpulses& last, ContactImpulses& next,
+                        const PairSolveSettings& settings) {
   const double dt = settings.dt_s;
   // Prepare (the caller sets each contact's arms from the centres of mass).
+  std::vector<std::uint32_t> island;  // the moving bodies
   for (PairContact& c : contacts) {
-    const SolverBody& a = bodies[c.a];
-    const SolverBody& b = bodies[c.b];
+    SolverBody& a = bodies[c.a];
+    SolverBody& b = bodies[c.b];
+    for (std::uint32_t x : {c.a, c.b})
+      if (bodies[x].inverse_mass > 0.0 && !bodies[x].listed) {
+        bodies[x].listed = true;
+        island.push_back(x);
+      }
+    a.reach_m = std::max(a.reach_m, c.arm_a.norm());
+    b.reach_m = std::max(b.reach_m, c.arm_b.norm());
     const Vec3& n = c.normal;
     // A tangent basis from the normal (any: friction is clamped on the disc, and the warm start
     // is kept as a world vector).
@@ -73,7 +82,7 @@ void solve_pair_contacts(std::vector<SolverBody>& bodies, std::vector<PairContac
   for (PairContact& c : contacts) {
     const auto found = last.find(c.key);
     if (found == last.end()) continue;
-    const Vec3& j = found->second;
+    const Vec3 j = settings.warm_start_scale * found->second;
     c.normal_impulse = std::max(0.0, j.dot(c.normal));
     double fu = j.dot(c.tangent_u), fv = j.dot(c.tangent_v);
     const double limit = c.friction * c.normal_impulse;
@@ -89,38 +98,88 @@ void solve_pair_contacts(std::vector<SolverBody>& bodies, std::vector<PairContac
     apply(bodies[c.a], bodies[c.b], c, c.tangent_u, 1, fu);
     apply(bodies[c.a], bodies[c.b], c, c.tangent_v, 2, fv);
   }
-  // Sweeps.
-  for (int iteration = 0; iteration < settings.iterations; ++iteration) {
-    double largest = 0.0;  // velocity change of this sweep, m/s
-    for (PairContact& c : contacts) {
-      SolverBody& a = bodies[c.a];
-      SolverBody& b = bodies[c.b];
-      const double vn = relative_speed(a, b, c, c.normal, 0);
+  // Sweeps, until one changes no body's velocity by more than the tolerance (at its farthest
+  // contact point; PairSolveSettings). Judged on the bodies, not on each contact's impulse: where a
+  // body rests on more points than it needs (four corners of a brick), the sweeps keep passing
+  // impulse from one point to another long after the velocities have settled.
+  for (std::uint32_t x : island) {
+    bodies[x].swept_velocity = bodies[x].velocity;
+    bodies[x].swept_omega = bodies[x].omega;
+  }
+  // The sweeps read only what they need, packed per contact (the contacts themselves are four
+  // times larger), and keep both bodies' velocities in locals while a contact is solved.
+  struct Row {
+    std::uint32_t a, b;
+    double inverse_mass_a, inverse_mass_b;
+    Vec3 normal, u, v;
+    std::array<Vec3, 3> lever_a, lever_b, spin_a, spin_b;
+    double mass_normal, mass_u, mass_v, target_speed, friction;
+    double normal_impulse, friction_u, friction_v;
+  };
+  std::vector<Row> rows;
+  rows.reserve(contacts.size());
+  for (const PairContact& c : contacts)
+    rows.push_back(Row{c.a, c.b, bodies[c.a].inverse_mass, bodies[c.b].inverse_mass, c.normal,
+                       c.tangent_u, c.tangent_v, c.lever_a, c.lever_b, c.spin_a, c.spin_b,
+                       c.mass_normal, c.mass_u, c.mass_v, c.target_speed, c.friction,
+                       c.normal_impulse, c.friction_u, c.friction_v});
+  double slowest = INFINITY;
+  for (std::uint32_t x : island)
+    slowest =
+        std::min(slowest, bodies[x].velocity.norm() + bodies[x].omega.norm() * bodies[x].reach_m);
+  const double converged = std::max(settings.converged_m_s, settings.converged_fraction * slowest);
+  int sweeps = 0;
+  while (sweeps < settings.iterations) {
+    ++sweeps;
+    for (Row& r : rows) {
+      SolverBody& a = bodies[r.a];
+      SolverBody& b = bodies[r.b];
+      Vec3 va = a.velocity, wa = a.omega, vb = b.velocity, wb = b.omega;
+      const double vn = r.normal.dot(vb - va) + r.lever_b[0].dot(wb) - r.lever_a[0].dot(wa);
       const double accumulated =
-          std::max(c.normal_impulse + (c.target_speed - vn) * c.mass_normal, 0.0);
-      const double dn = accumulated - c.normal_impulse;
-      c.normal_impulse = accumulated;
-      apply(a, b, c, c.normal, 0, dn);
-      double fu = c.friction_u - relative_speed(a, b, c, c.tangent_u, 1) * c.mass_u;
-      double fv = c.friction_v - relative_speed(a, b, c, c.tangent_v, 2) * c.mass_v;
-      const double limit = c.friction * c.normal_impulse;
+          std::max(r.normal_impulse + (r.target_speed - vn) * r.mass_normal, 0.0);
+      const double dn = accumulated - r.normal_impulse;
+      r.normal_impulse = accumulated;
+      va -= (dn * r.inverse_mass_a) * r.normal;
+      wa -= dn * r.spin_a[0];
+      vb += (dn * r.inverse_mass_b) * r.normal;
+      wb += dn * r.spin_b[0];
+      const Vec3 slide = vb - va;
+      double fu =
+          r.friction_u - (r.u.dot(slide) + r.lever_b[1].dot(wb) - r.lever_a[1].dot(wa)) * r.mass_u;
+      double fv =
+          r.friction_v - (r.v.dot(slide) + r.lever_b[2].dot(wb) - r.lever_a[2].dot(wa)) * r.mass_v;
+      const double limit = r.friction * r.normal_impulse;
       const double squared = fu * fu + fv * fv;
       if (squared > limit * limit) {
         const double scale = limit / std::sqrt(squared);
         fu *= scale;
         fv *= scale;
       }
-      const double du = fu - c.friction_u, dv = fv - c.friction_v;
-      c.friction_u = fu;
-      c.friction_v = fv;
-      apply(a, b, c, c.tangent_u, 1, du);
-      apply(a, b, c, c.tangent_v, 2, dv);
-      largest = std::max({largest, std::abs(dn) / c.mass_normal, std::abs(du) / c.mass_u,
-                          std::abs(dv) / c.mass_v});
+      const double du = fu - r.friction_u, dv = fv - r.friction_v;
+      r.friction_u = fu;
+      r.friction_v = fv;
+      const Vec3 push = du * r.u + dv * r.v;
+      a.velocity = va - r.inverse_mass_a * push;
+      a.omega = wa - du * r.spin_a[1] - dv * r.spin_a[2];
+      b.velocity = vb + r.inverse_mass_b * push;
+      b.omega = wb + du * r.spin_b[1] + dv * r.spin_b[2];
     }
-    if (largest < 1e-5) break;  // a further sweep would change velocities by under 10 um/s
+    double largest = 0.0;
+    for (std::uint32_t x : island) {
+      SolverBody& body = bodies[x];
+      largest = std::max(largest, (body.velocity - body.swept_velocity).norm() +
+                                      (body.omega - body.swept_omega).norm() * body.reach_m);
+      body.swept_velocity = body.velocity;
+      body.swept_omega = body.omega;
+    }
+    if (largest < converged) break;
   }
-  next.clear();
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    contacts[i].normal_impulse = rows[i].normal_impulse;
+    contacts[i].friction_u = rows[i].friction_u;
+    contacts[i].friction_v = rows[i].friction_v;
+  }
   for (const PairContact& c : contacts)
     next[c.key] =
         c.normal_impulse * c.normal + c.friction_u * c.tangent_u + c.friction_v * c.tangent_v;
@@ -145,6 +204,7 @@ void solve_pair_contacts(std::vector<SolverBody>& bodies, std::vector<PairContac
       b.position_shift += shift * b.inverse_mass * c.normal;
     }
   }
+  return sweeps;
 }
 
 }  // namespace brisance::dynamics

@@ -13,6 +13,7 @@
 #include <array>
 #include <cmath>
 #include <numeric>
+#include <span>
 
 #include "sim/engine/run.hpp"
 #include "sim/engine/sleeping.hpp"
@@ -329,14 +330,44 @@ void Run::collide(double dt) {
         }
       }
     }
-    // Bottom up, so a stack's weight is passed down within a sweep.
-    std::vector<std::size_t> by_height(contacts.size());
-    std::iota(by_height.begin(), by_height.end(), std::size_t{0});
-    std::sort(by_height.begin(), by_height.end(), [&](std::size_t x, std::size_t y) {
-      if (contacts[x].point.y() != contacts[y].point.y())
-        return contacts[x].point.y() < contacts[y].point.y();
-      return contacts[x].key < contacts[y].key;
+    // Islands: the moving bodies joined by their contacts (static partners join nothing),
+    // each solved on its own, so that one settles in the sweeps it needs rather than in those
+    // of the slowest. Union-find over solver bodies, the smaller index the root.
+    auto& parent = state_.island_parent;
+    parent.resize(solver.size());
+    std::iota(parent.begin(), parent.end(), 0u);
+    auto root = [&](std::uint32_t x) {
+      while (parent[x] != x)
+        x = parent[x] = parent[parent[x]];
+      return x;
+    };
+    for (const dynamics::PairContact& c : contacts) {
+      if (c.a == 0 || c.b == 0) continue;
+      const std::uint32_t ra = root(c.a), rb = root(c.b);
+      if (ra != rb) parent[std::max(ra, rb)] = std::min(ra, rb);
+    }
+    // By island, then bottom up within it, so a stack's weight is passed down within a sweep.
+    std::vector<std::uint32_t> island(contacts.size());
+    for (std::size_t i = 0; i < contacts.size(); ++i)
+      island[i] = root(contacts[i].a != 0 ? contacts[i].a : contacts[i].b);
+    // (Sorted on packed keys: the comparisons then read no contact.)
+    struct Order {
+      std::uint32_t island;
+      double height;
+      std::uint64_t key;
+      std::size_t index;
+    };
+    std::vector<Order> order_keys(contacts.size());
+    for (std::size_t i = 0; i < contacts.size(); ++i)
+      order_keys[i] = Order{island[i], contacts[i].point.y(), contacts[i].key, i};
+    std::sort(order_keys.begin(), order_keys.end(), [](const Order& x, const Order& y) {
+      if (x.island != y.island) return x.island < y.island;
+      if (x.height != y.height) return x.height < y.height;
+      return x.key < y.key;
     });
+    std::vector<std::size_t> by_height(contacts.size());
+    for (std::size_t i = 0; i < contacts.size(); ++i)
+      by_height[i] = order_keys[i].index;
     auto& sorted = state_.sorted_contacts;
     auto& sorted_held = state_.sorted_held;
     sorted.clear();
@@ -348,9 +379,22 @@ void Run::collide(double dt) {
     result_.stats.contact_points += sorted.size();
     dynamics::PairSolveSettings settings;
     settings.dt_s = dt;
+    // Warm start as forces: last step's impulses in proportion to the step's length, at most
+    // doubled (an impact's impulse in a tiny step is no force to scale up).
+    if (state_.contact_impulses_dt_s > 0.0)
+      settings.warm_start_scale = std::min(dt / state_.contact_impulses_dt_s, 2.0);
+    state_.contact_impulses_dt_s = dt;
     const std::vector<dynamics::SolverBody> before = solver;
-    dynamics::solve_pair_contacts(solver, sorted, state_.contact_impulses,
-                                  state_.next_contact_impulses, settings);
+    state_.next_contact_impulses.clear();
+    for (std::size_t first = 0; first < sorted.size();) {
+      std::size_t last = first + 1;
+      while (last < sorted.size() && island[by_height[last]] == island[by_height[first]])
+        ++last;
+      dynamics::solve_pair_contacts(
+          solver, std::span<dynamics::PairContact>(sorted.data() + first, last - first),
+          state_.contact_impulses, state_.next_contact_impulses, settings);
+      first = last;
+    }
     std::swap(state_.contact_impulses, state_.next_contact_impulses);
     // The step's motion redone with the solved velocities (body_contact.hpp): each body moves
     // and turns by its change of velocity over the step, then out of what penetration is left.

@@ -64,6 +64,7 @@ struct RunState {
   std::vector<Vec3> box_min, box_max;  // world boxes, grown by the step's motion
   std::vector<std::uint32_t> sweep_order;
   dynamics::ContactImpulses contact_impulses, next_contact_impulses;
+  double contact_impulses_dt_s = 0.0;  // the step contact_impulses were solved in
   std::vector<std::uint8_t> touching_body;
   // The bodies integrated this step and whether each touched the ground: with contacts between
   // bodies, sleeping is judged after them (sleep_after_contacts).
@@ -75,6 +76,7 @@ struct RunState {
   std::vector<std::uint32_t> contact_held, sorted_held;
   std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;
   std::vector<double> margin;
+  std::vector<std::uint32_t> island_parent;  // union-find over the solve's bodies
   // `auto`: pairs of a fragment and an anchored body (its frame) meeting at the start.
   std::unordered_set<std::uint64_t> start_neighbours;
   std::unordered_set<std::uint64_t> touching_pairs, next_touching_pairs;  // contact_key(a, b, 0)

@@ -28,6 +28,8 @@ std::uint64_t mix_seed(std::uint64_t seed, std::uint64_t index) {
   return z ^ (z >> 31);
 }
 
+}  // namespace
+
 // The load on the face of the pane that faces each charge, at the pane's centre: the reflected
 // pulse (Kingery–Bulmash, oblique reflection at the angle of incidence), arriving at the curves'
 // arrival time, summed over the charges; and the largest of their peaks (the static model's
@@ -65,6 +67,8 @@ PaneLoad pane_load_at(const Vec3& centre, const Vec3& normal,
     c.arrival_s -= first;
   return load;
 }
+
+namespace {
 
 double earliest_arrival_s(const Vec3& point, const std::vector<ChargeModel>& charges) {
   double earliest = INFINITY;

@@ -10,11 +10,18 @@
 #include <vector>
 
 #include "sim/engine/model.hpp"
+#include "sim/engine/pane_pattern.hpp"
 
 namespace brisance::engine {
 
 // A scene object as a body source, its panels cut at max_panel_area_m2.
 BodySource object_source(const scene::ObjectSpec& object, double max_panel_area_m2);
+
+// The load on the pane with centre `centre` and unit normal `normal` (world frame) from
+// `charges`: what break_pane judges the pane by (panes.cpp). Sets `out_of_range` as break_pane.
+PaneLoad pane_load_at(const Vec3& centre, const Vec3& normal,
+                      const std::vector<ChargeModel>& charges, blast::PulseShape shape,
+                      bool& out_of_range);
 
 // Breaks the pane `object` (scene object `index`), appending its body sources
 // to `out`: the fragments (named "<pane>/f<k>"), or the pane itself unbroken (anchored when

@@ -11,6 +11,9 @@
 
 #include <benchmark/benchmark.h>
 
+#include "sim/engine/interrupt.hpp"
+#include "sim/engine/model.hpp"
+#include "sim/engine/panes.hpp"
 #include "sim/geometry/mesh.hpp"
 #include "sim/occlusion/shielding.hpp"
 
@@ -96,5 +99,42 @@ void BM_SphereMap(benchmark::State& state) {
 BENCHMARK(BM_SphereMap)->Arg(32)->Arg(64)->Unit(benchmark::kMillisecond);
 
 }  // namespace
+
+// Another prepare stage that looks across panels: the clearing-surface search
+// (sim/engine/clearing_surfaces.cpp) over one 10 x 10 x 0.1 m slab whose faces are cut into
+// panels of 100 / N m^2, so each large face holds about N coplanar panels (issue 15: the search
+// was quadratic in the coplanar panels of one body; a 397k-triangle mesh took minutes).
+void BM_ClearingSurfaces(benchmark::State& state) {
+  namespace engine = brisance::engine;
+  brisance::scene::ObjectSpec slab;
+  slab.name = "slab";
+  slab.shape = brisance::scene::ShapeType::box;
+  slab.box_size_m = Vec3(10.0, 10.0, 0.1);
+  slab.mesh = geometry::make_box(slab.box_size_m);
+  slab.mass_kg = 1000.0;
+  const std::vector<engine::BodySource> sources = {
+      engine::object_source(slab, 100.0 / static_cast<double>(state.range(0)))};
+  engine::Model model;
+  for (std::uint32_t b = 0; b < sources.size(); ++b) {
+    const Vec3 com = sources[b].unit_mass.centre_of_mass;
+    model.centre_of_mass.push_back(com);
+    for (const geometry::Panel& panel : sources[b].load_panels)
+      model.panels.push_back({b, panel.centre - com, panel.outward_normal, panel.area_m2,
+                              panel.face_half_size_m, std::sqrt(panel.area_m2), false});
+  }
+  engine::Checkpoint never;
+  for (auto _ : state) {
+    engine::Model run = model;
+    engine::share_clearing_across_surfaces(sources, run, never);
+    benchmark::DoNotOptimize(run.panels.data());
+  }
+  state.counters["panels"] = static_cast<double>(model.panels.size());
+}
+BENCHMARK(BM_ClearingSurfaces)
+    ->Arg(1000)
+    ->Arg(4000)
+    ->Arg(16000)
+    ->Arg(64000)
+    ->Unit(benchmark::kMillisecond);
 
 BENCHMARK_MAIN();

@@ -200,6 +200,9 @@ class JobService {
   RecoveryReport recover_abandoned(const std::function<bool(const std::string&)>& owner_is_dead);
   // The queued job to run next (highest priority, oldest), leased to `owner` for lease_ms.
   std::optional<ClaimedJob> claim(std::string_view owner, std::int64_t lease_ms);
+  // Whether the store holds a cancel request for a running job (one made through another node
+  // or process reaches this one only through the store).
+  bool cancel_requested(const std::string& id) { return storage_.cancel_requested(id); }
   enum class Progress { kept, cancel_requested, lease_lost };
   // Stores a running job's progress (0..1); whether it was cancelled through another node, or
   // its lease is gone (deleted, or taken over after it expired).

@@ -81,6 +81,34 @@ TEST(RunLimits, AJobOverItsMemoryBudgetFailsWithItsOwnType) {
   EXPECT_NE(message.find("fracture.growth_length"), std::string::npos) << message;
 }
 
+// A cancel made through another node (here: straight into the store, as a second node's
+// JobService writes it, so this node's in-process flag is not set) stops the job while its panes
+// break. Before, this node learnt of it only from the step loop's progress reports, after every
+// pane was broken and prepare had run (some 5 s for this facade).
+TEST(RunLimits, ACancelThroughAnotherNodeStopsAJobWhileItsPanesBreak) {
+  TestServer server;
+  const ClientResponse accepted = server.request("POST", "/v1/jobs", job_body(facade_of_windows()));
+  ASSERT_EQ(accepted.status, 202) << accepted.body;
+  const std::string id = json::parse(accepted.body).at("id");
+  const auto patience = Clock::now() + std::chrono::seconds(30);
+  while (server.get_json("/v1/jobs/" + id).at("status") != "running" && Clock::now() < patience)
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  ASSERT_EQ(server.get_json("/v1/jobs/" + id).at("status"), "running");
+  const auto cancelled_at = Clock::now();
+  ASSERT_EQ(server.storage().request_cancel(id, server::now_ms()),
+            server::CancelOutcome::requested);
+  json job;
+  do {
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    job = server.get_json("/v1/jobs/" + id);
+  } while (job.at("status") == "running" && Clock::now() < patience);
+  const double seconds = std::chrono::duration<double>(Clock::now() - cancelled_at).count();
+  EXPECT_EQ(job.at("status"), "cancelled") << job.dump();
+  // The store is read once per progress interval (250 ms here) from every phase; 2 s leaves room
+  // for a loaded machine and is well below the time to break the panes.
+  EXPECT_LT(seconds, 2.0);
+}
+
 // 30 panes of 2 x 2 m that always break with 2 mm between forks (about 1 000 fragments each),
 // recorded for 1 s at 1 000 frames/s: past 5e6 frames x bodies once some five have broken.
 json fine_panes() {

@@ -7,6 +7,7 @@
 // The scene is a yard of 0.5 m crates scattered 5-60 m around a ground-level charge, with a
 // concrete wall every 50 crates, so many crates stand in the shadow of others; every crate face is
 // a load panel whose attenuation is read (per-panel mode), as the engine would ask.
+#include <cmath>
 #include <random>
 
 #include <benchmark/benchmark.h>
@@ -135,6 +136,60 @@ BENCHMARK(BM_ClearingSurfaces)
     ->Arg(4000)
     ->Arg(16000)
     ->Arg(64000)
+    ->Unit(benchmark::kMillisecond);
+
+// The same search over a UV sphere of 2 x `around` x (`around` / 2 - 1) facets: every facet a
+// plane of its own at the same offset (the 397k-triangle mesh of issue 15 was such a sphere).
+void BM_ClearingSurfacesSphere(benchmark::State& state) {
+  namespace engine = brisance::engine;
+  const int around = static_cast<int>(state.range(0));
+  const int rings = around / 2;
+  brisance::scene::ObjectSpec ball;
+  ball.name = "ball";
+  ball.shape = brisance::scene::ShapeType::mesh;
+  ball.mesh.vertices.emplace_back(0.0, 1.0, 0.0);
+  for (int i = 1; i < rings; ++i)
+    for (int j = 0; j < around; ++j) {
+      const double theta = 3.141592653589793 * i / rings;
+      const double phi = 2.0 * 3.141592653589793 * j / around;
+      ball.mesh.vertices.emplace_back(std::sin(theta) * std::cos(phi), std::cos(theta),
+                                      std::sin(theta) * std::sin(phi));
+    }
+  ball.mesh.vertices.emplace_back(0.0, -1.0, 0.0);
+  const auto ring = [&](int i, int j) {
+    return static_cast<std::uint32_t>(1 + i * around + (j % around));
+  };
+  for (int j = 0; j < around; ++j)
+    ball.mesh.triangles.push_back({0, ring(0, j + 1), ring(0, j)});
+  for (int i = 0; i + 2 < rings; ++i)
+    for (int j = 0; j < around; ++j) {
+      ball.mesh.triangles.push_back({ring(i, j), ring(i, j + 1), ring(i + 1, j + 1)});
+      ball.mesh.triangles.push_back({ring(i, j), ring(i + 1, j + 1), ring(i + 1, j)});
+    }
+  const auto last = static_cast<std::uint32_t>(ball.mesh.vertices.size() - 1);
+  for (int j = 0; j < around; ++j)
+    ball.mesh.triangles.push_back({last, ring(rings - 2, j), ring(rings - 2, j + 1)});
+  ball.mass_kg = 1.0;
+  const std::vector<engine::BodySource> sources = {engine::object_source(ball, 1e9)};
+  engine::Model model;
+  const Vec3 com = sources[0].unit_mass.centre_of_mass;
+  model.centre_of_mass.push_back(com);
+  for (const geometry::Panel& panel : sources[0].load_panels)
+    model.panels.push_back({0, panel.centre - com, panel.outward_normal, panel.area_m2,
+                            panel.face_half_size_m, std::sqrt(panel.area_m2), false});
+  engine::Checkpoint never;
+  for (auto _ : state) {
+    engine::Model run = model;
+    engine::share_clearing_across_surfaces(sources, run, never);
+    benchmark::DoNotOptimize(run.panels.data());
+  }
+  state.counters["panels"] = static_cast<double>(model.panels.size());
+}
+BENCHMARK(BM_ClearingSurfacesSphere)
+    ->Arg(32)
+    ->Arg(64)
+    ->Arg(128)
+    ->Arg(256)
     ->Unit(benchmark::kMillisecond);
 
 BENCHMARK_MAIN();

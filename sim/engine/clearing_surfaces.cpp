@@ -266,7 +266,58 @@ void share_clearing_across_surfaces(const std::vector<BodySource>& sources, Mode
     if (surface.bodies.empty() || surface.bodies.back() != model.panels[p].body)
       surface.bodies.push_back(model.panels[p].body);
   }
+  // A body in many surfaces (a sphere's facets are each a surface of their own) has its world
+  // vertices in a tree of bounding boxes, so each surface visits only the boxes its plane's slab
+  // reaches instead of every vertex (which was surfaces x vertices). A box is passed over only
+  // when it lies outside the slab by more than any rounding (1e-9 relative); every vertex
+  // visited gets the same test as before, so the extents are the same.
+  constexpr std::size_t kTreeAfterSurfaces = 8;
+  constexpr std::uint32_t kLeafVertices = 16;
+  struct VertexTree {
+    struct Node {
+      Vec3 min, max;
+      std::uint32_t begin, end;  // points[begin .. end)
+      std::uint32_t left = 0;    // children left and left + 1; 0: a leaf
+    };
+    std::vector<Vec3> points;  // world frame, m
+    std::vector<Node> nodes;
+  };
+  std::vector<std::size_t> surfaces_of_body(bodies, 0);
+  for (const auto& [root, surface] : surfaces)
+    for (std::uint32_t body : surface.bodies)
+      ++surfaces_of_body[body];
+  std::map<std::uint32_t, VertexTree> trees;
+  for (std::uint32_t body = 0; body < bodies; ++body) {
+    if (surfaces_of_body[body] <= kTreeAfterSurfaces) continue;
+    checkpoint.poll();
+    const BodySource& object = sources[body];
+    VertexTree& tree = trees[body];
+    for (const Vec3& vertex : object.mesh.vertices)
+      tree.points.push_back(object.position + object.orientation * vertex);
+    tree.nodes.push_back(
+        {Vec3::Zero(), Vec3::Zero(), 0, static_cast<std::uint32_t>(tree.points.size()), 0});
+    for (std::size_t k = 0; k < tree.nodes.size(); ++k) {
+      checkpoint.tick(64);
+      const std::uint32_t begin = tree.nodes[k].begin, end = tree.nodes[k].end;
+      Vec3 lo = Vec3::Constant(INFINITY), hi = Vec3::Constant(-INFINITY);
+      for (std::uint32_t i = begin; i < end; ++i)
+        lo = lo.cwiseMin(tree.points[i]), hi = hi.cwiseMax(tree.points[i]);
+      tree.nodes[k].min = lo;
+      tree.nodes[k].max = hi;
+      if (end - begin <= kLeafVertices) continue;
+      int axis = 0;
+      (hi - lo).maxCoeff(&axis);
+      const std::uint32_t middle = begin + (end - begin) / 2;
+      std::nth_element(tree.points.begin() + begin, tree.points.begin() + middle,
+                       tree.points.begin() + end,
+                       [axis](const Vec3& a, const Vec3& b) { return a[axis] < b[axis]; });
+      tree.nodes[k].left = static_cast<std::uint32_t>(tree.nodes.size());
+      tree.nodes.push_back({Vec3::Zero(), Vec3::Zero(), begin, middle, 0});
+      tree.nodes.push_back({Vec3::Zero(), Vec3::Zero(), middle, end, 0});
+    }
+  }
   std::map<std::size_t, double> half_size;
+  std::vector<std::uint32_t> stack;
   for (const auto& [root, surface] : surfaces) {
     checkpoint.tick(64);
     Vec3 u = Vec3::UnitY().cross(surface.normal);
@@ -274,13 +325,37 @@ void share_clearing_across_surfaces(const std::vector<BodySource>& sources, Mode
     u.normalize();
     const Vec3 v = surface.normal.cross(u);
     double min_u = INFINITY, max_u = -INFINITY, min_v = INFINITY, max_v = -INFINITY;
+    const auto take = [&](const Vec3& x) {
+      if (std::abs(surface.normal.dot(x) - surface.offset) > kPlaneGap_m) return;
+      min_u = std::min(min_u, u.dot(x)), max_u = std::max(max_u, u.dot(x));
+      min_v = std::min(min_v, v.dot(x)), max_v = std::max(max_v, v.dot(x));
+    };
     for (std::uint32_t body : surface.bodies) {
-      const BodySource& object = sources[body];
-      for (const Vec3& vertex : object.mesh.vertices) {
-        const Vec3 x = object.position + object.orientation * vertex;
-        if (std::abs(surface.normal.dot(x) - surface.offset) > kPlaneGap_m) continue;
-        min_u = std::min(min_u, u.dot(x)), max_u = std::max(max_u, u.dot(x));
-        min_v = std::min(min_v, v.dot(x)), max_v = std::max(max_v, v.dot(x));
+      const auto tree = trees.find(body);
+      if (tree == trees.end()) {
+        const BodySource& object = sources[body];
+        for (const Vec3& vertex : object.mesh.vertices)
+          take(object.position + object.orientation * vertex);
+        continue;
+      }
+      const Vec3 reach = surface.normal.cwiseAbs();
+      stack.assign(1, 0);
+      while (!stack.empty()) {
+        const VertexTree::Node& node = tree->second.nodes[stack.back()];
+        stack.pop_back();
+        const Vec3 centre = 0.5 * (node.min + node.max);
+        const double radius = reach.dot(0.5 * (node.max - node.min));
+        const double distance = surface.normal.dot(centre) - surface.offset;
+        const double rounding =
+            1e-9 * (1.0 + std::abs(surface.offset) + std::abs(distance) + radius);
+        if (std::abs(distance) > radius + kPlaneGap_m + rounding) continue;
+        if (node.left == 0) {
+          for (std::uint32_t i = node.begin; i < node.end; ++i)
+            take(tree->second.points[i]);
+        } else {
+          stack.push_back(node.left);
+          stack.push_back(node.left + 1);
+        }
       }
     }
     half_size[root] = max_u > min_u ? 0.5 * std::min(max_u - min_u, max_v - min_v) : 0.0;

@@ -236,6 +236,7 @@ int run_serve(const Args& args, std::ostream& out) {
       number_setting(flags, "job-timeout-s", "BRISANCE_JOB_TIMEOUT_S", 600, 0, 1e7);
   workers.job_memory_bytes = static_cast<std::uint64_t>(
       number_setting(flags, "job-memory-mb", "BRISANCE_JOB_MEMORY_MB", 2048, 0, 1e7) * 1024 * 1024);
+  service_options.job_memory_bytes = workers.job_memory_bytes;
   workers.retention = std::chrono::hours(
       integer_setting(flags, "retention-h", "BRISANCE_RETENTION_H", 168, 0, 1000000));
   const double grace_s = number_setting(flags, "grace-s", "BRISANCE_GRACE_S", 10, 0, 3600);

@@ -10,6 +10,7 @@
 
 #include "server/compact_result.hpp"
 #include "server/sha256.hpp"
+#include "sim/engine/budget.hpp"
 #include "sim/io/gltf.hpp"
 #include "sim/io/result_codec.hpp"
 #include "sim/scene/reader.hpp"
@@ -253,6 +254,26 @@ SubmitOutcome JobService::submit(const SubmitRequest& request) {
         scene::parse_scene(*scene_json, options_.limits, asset_meshes(request.owner));
     for (auto& e : parsed.errors)
       invalid("/scene" + e.pointer, std::move(e.message));
+    if (parsed.scene) {
+      // A scene its run would certainly stop for its size (fragments, panels, frames x bodies,
+      // memory), judged from lower bounds without breaking a pane, fails here rather than later.
+      engine::RunBudget budget;
+      budget.limits = options_.limits;
+      budget.memory_bytes = options_.job_memory_bytes;
+      if (auto refusal = engine::refuse_before_run(*parsed.scene, budget)) {
+        const json* explicit_objects = scene_json->is_object() && scene_json->contains("objects")
+                                           ? &scene_json->at("objects")
+                                           : nullptr;
+        const std::size_t explicit_count =
+            explicit_objects && explicit_objects->is_array() ? explicit_objects->size() : 0;
+        invalid(refusal->object < explicit_count
+                    ? "/scene/objects/" + std::to_string(refusal->object)
+                    : std::string("/scene/generators"),
+                "the run of this scene would stop for its size (judged before it runs, from a "
+                "lower bound of what it creates): " +
+                    refusal->what.message);
+      }
+    }
   }
   if (!outcome.errors.empty()) {
     outcome.kind = SubmitOutcome::Kind::invalid;

@@ -40,6 +40,9 @@ struct ServiceOptions {
   int max_attempts = 3;            // claims before a job that keeps killing workers fails
   std::size_t max_asset_bytes = 8 * 1024 * 1024;  // larger uploads to /v1/assets get 413
   scene::Limits limits = service_limits();
+  // The workers' memory budget of one run (--job-memory-mb; 0: none): a scene whose run would
+  // certainly pass it, or a limit, is refused at submission (engine::refuse_before_run).
+  std::uint64_t job_memory_bytes = 0;
   std::string default_callback_url;  // for jobs that name none ('' none); --callback-url
   // The most frames x animated bodies a result.glb is built for: it is made whole in memory
   // (docs/service.md, bench/results/result_storage.md); above it the route answers 422
@@ -197,6 +200,9 @@ class JobService {
   RecoveryReport recover_abandoned(const std::function<bool(const std::string&)>& owner_is_dead);
   // The queued job to run next (highest priority, oldest), leased to `owner` for lease_ms.
   std::optional<ClaimedJob> claim(std::string_view owner, std::int64_t lease_ms);
+  // Whether the store holds a cancel request for a running job (one made through another node
+  // or process reaches this one only through the store).
+  bool cancel_requested(const std::string& id) { return storage_.cancel_requested(id); }
   enum class Progress { kept, cancel_requested, lease_lost };
   // Stores a running job's progress (0..1); whether it was cancelled through another node, or
   // its lease is gone (deleted, or taken over after it expired).

@@ -151,10 +151,14 @@ void WorkerPool::run_job(ClaimedJob claimed) {
                          : parsed.errors.front().pointer + ": " + parsed.errors.front().message);
   } else {
     engine::RunHooks hooks;
+    // When the store last told this worker whether the job was cancelled through another node:
+    // with each progress report while stepping, and from the cancel hook in every other phase.
+    auto last_cancel_check = started;
     hooks.progress = [&](double fraction) {
       const auto now = Clock::now();
       if (now - last_progress < options_.progress_interval) return;
       last_progress = now;
+      last_cancel_check = now;
       try {
         switch (service_.report_progress(id, owner_, fraction)) {
           case JobService::Progress::kept:
@@ -174,6 +178,22 @@ void WorkerPool::run_job(ClaimedJob claimed) {
       if (cancel_flag->load(std::memory_order_relaxed) || lease_lost ||
           abort_.load(std::memory_order_relaxed)) {
         return true;
+      }
+      // A cancel through another node sets only the store's flag, and progress reports come
+      // only from the step loop: breaking panes and prepare (seconds for a large scene) look it
+      // up here, once per progress interval, from wherever the run polls.
+      const auto now = Clock::now();
+      if (now - last_cancel_check >= options_.progress_interval) {
+        last_cancel_check = now;
+        try {
+          if (service_.cancel_requested(id)) {
+            cancel_flag->store(true);
+            return true;
+          }
+        } catch (const std::exception& error) {
+          log_event(LogLevel::warn, "cannot read the cancel flag",
+                    {{"job", id}, {"error", error.what()}});
+        }
       }
       if (options_.job_timeout_s > 0.0 &&
           std::chrono::duration<double>(Clock::now() - started).count() > options_.job_timeout_s) {

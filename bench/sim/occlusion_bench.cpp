@@ -7,10 +7,14 @@
 // The scene is a yard of 0.5 m crates scattered 5-60 m around a ground-level charge, with a
 // concrete wall every 50 crates, so many crates stand in the shadow of others; every crate face is
 // a load panel whose attenuation is read (per-panel mode), as the engine would ask.
+#include <cmath>
 #include <random>
 
 #include <benchmark/benchmark.h>
 
+#include "sim/engine/interrupt.hpp"
+#include "sim/engine/model.hpp"
+#include "sim/engine/panes.hpp"
 #include "sim/geometry/mesh.hpp"
 #include "sim/occlusion/shielding.hpp"
 
@@ -96,5 +100,96 @@ void BM_SphereMap(benchmark::State& state) {
 BENCHMARK(BM_SphereMap)->Arg(32)->Arg(64)->Unit(benchmark::kMillisecond);
 
 }  // namespace
+
+// Another prepare stage that looks across panels: the clearing-surface search
+// (sim/engine/clearing_surfaces.cpp) over one 10 x 10 x 0.1 m slab whose faces are cut into
+// panels of 100 / N m^2, so each large face holds about N coplanar panels (issue 15: the search
+// was quadratic in the coplanar panels of one body; a 397k-triangle mesh took minutes).
+void BM_ClearingSurfaces(benchmark::State& state) {
+  namespace engine = brisance::engine;
+  brisance::scene::ObjectSpec slab;
+  slab.name = "slab";
+  slab.shape = brisance::scene::ShapeType::box;
+  slab.box_size_m = Vec3(10.0, 10.0, 0.1);
+  slab.mesh = geometry::make_box(slab.box_size_m);
+  slab.mass_kg = 1000.0;
+  const std::vector<engine::BodySource> sources = {
+      engine::object_source(slab, 100.0 / static_cast<double>(state.range(0)))};
+  engine::Model model;
+  for (std::uint32_t b = 0; b < sources.size(); ++b) {
+    const Vec3 com = sources[b].unit_mass.centre_of_mass;
+    model.centre_of_mass.push_back(com);
+    for (const geometry::Panel& panel : sources[b].load_panels)
+      model.panels.push_back({b, panel.centre - com, panel.outward_normal, panel.area_m2,
+                              panel.face_half_size_m, std::sqrt(panel.area_m2), false});
+  }
+  engine::Checkpoint never;
+  for (auto _ : state) {
+    engine::Model run = model;
+    engine::share_clearing_across_surfaces(sources, run, never);
+    benchmark::DoNotOptimize(run.panels.data());
+  }
+  state.counters["panels"] = static_cast<double>(model.panels.size());
+}
+BENCHMARK(BM_ClearingSurfaces)
+    ->Arg(1000)
+    ->Arg(4000)
+    ->Arg(16000)
+    ->Arg(64000)
+    ->Unit(benchmark::kMillisecond);
+
+// The same search over a UV sphere of 2 x `around` x (`around` / 2 - 1) facets: every facet a
+// plane of its own at the same offset (the 397k-triangle mesh of issue 15 was such a sphere).
+void BM_ClearingSurfacesSphere(benchmark::State& state) {
+  namespace engine = brisance::engine;
+  const int around = static_cast<int>(state.range(0));
+  const int rings = around / 2;
+  brisance::scene::ObjectSpec ball;
+  ball.name = "ball";
+  ball.shape = brisance::scene::ShapeType::mesh;
+  ball.mesh.vertices.emplace_back(0.0, 1.0, 0.0);
+  for (int i = 1; i < rings; ++i)
+    for (int j = 0; j < around; ++j) {
+      const double theta = 3.141592653589793 * i / rings;
+      const double phi = 2.0 * 3.141592653589793 * j / around;
+      ball.mesh.vertices.emplace_back(std::sin(theta) * std::cos(phi), std::cos(theta),
+                                      std::sin(theta) * std::sin(phi));
+    }
+  ball.mesh.vertices.emplace_back(0.0, -1.0, 0.0);
+  const auto ring = [&](int i, int j) {
+    return static_cast<std::uint32_t>(1 + i * around + (j % around));
+  };
+  for (int j = 0; j < around; ++j)
+    ball.mesh.triangles.push_back({0, ring(0, j + 1), ring(0, j)});
+  for (int i = 0; i + 2 < rings; ++i)
+    for (int j = 0; j < around; ++j) {
+      ball.mesh.triangles.push_back({ring(i, j), ring(i, j + 1), ring(i + 1, j + 1)});
+      ball.mesh.triangles.push_back({ring(i, j), ring(i + 1, j + 1), ring(i + 1, j)});
+    }
+  const auto last = static_cast<std::uint32_t>(ball.mesh.vertices.size() - 1);
+  for (int j = 0; j < around; ++j)
+    ball.mesh.triangles.push_back({last, ring(rings - 2, j), ring(rings - 2, j + 1)});
+  ball.mass_kg = 1.0;
+  const std::vector<engine::BodySource> sources = {engine::object_source(ball, 1e9)};
+  engine::Model model;
+  const Vec3 com = sources[0].unit_mass.centre_of_mass;
+  model.centre_of_mass.push_back(com);
+  for (const geometry::Panel& panel : sources[0].load_panels)
+    model.panels.push_back({0, panel.centre - com, panel.outward_normal, panel.area_m2,
+                            panel.face_half_size_m, std::sqrt(panel.area_m2), false});
+  engine::Checkpoint never;
+  for (auto _ : state) {
+    engine::Model run = model;
+    engine::share_clearing_across_surfaces(sources, run, never);
+    benchmark::DoNotOptimize(run.panels.data());
+  }
+  state.counters["panels"] = static_cast<double>(model.panels.size());
+}
+BENCHMARK(BM_ClearingSurfacesSphere)
+    ->Arg(32)
+    ->Arg(64)
+    ->Arg(128)
+    ->Arg(256)
+    ->Unit(benchmark::kMillisecond);
 
 BENCHMARK_MAIN();

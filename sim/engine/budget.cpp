@@ -25,37 +25,45 @@ BudgetTally::BudgetTally(const RunBudget& budget, const scene::Scene& scene)
   frames_ = static_cast<std::uint64_t>(std::floor(sim.duration_s * sim.frame_rate_hz + 1e-9)) + 1;
 }
 
-std::uint64_t BudgetTally::bytes_of(const BodySource& source) const {
-  const std::uint64_t vertices = source.mesh.vertices.size();
-  const std::uint64_t triangles = source.mesh.triangles.size();
-  const std::uint64_t load_panels = source.load_panels.size();
-  const std::uint64_t drag_panels = source.drag_panels.size();
+BudgetTally::BodySize BudgetTally::size_of(const BodySource& source) {
+  BodySize size;
+  size.vertices = source.mesh.vertices.size();
+  size.triangles = source.mesh.triangles.size();
+  size.load_panels = source.load_panels.size();
+  size.drag_panels = source.drag_panels.size();
+  size.name_bytes = source.name.size();
+  size.anchored = source.anchored;
+  size.fragment = source.fragment;
+  return size;
+}
+
+std::uint64_t BudgetTally::bytes_of(const BodySize& size) const {
   // The mesh: its vertices in the source (then the result), as hull points, and twice in the
   // shielding pass (world vertices and the occlusion object's copy); its triangles there too.
-  std::uint64_t bytes = vertices * sizeof(Vec3) * 4 +
-                        triangles * sizeof(std::array<std::uint32_t, 3>) * 2 +
-                        (load_panels + drag_panels) * sizeof(geometry::Panel);
+  std::uint64_t bytes = size.vertices * sizeof(Vec3) * 4 +
+                        size.triangles * sizeof(std::array<std::uint32_t, 3>) * 2 +
+                        (size.load_panels + size.drag_panels) * sizeof(geometry::Panel);
   // Each load panel: the Model's, the clearing search's world plane, index and disjoint set
   // (80 B), the shielding pass's, its loaded flag; per charge its event and shielding factor.
-  bytes += load_panels * (sizeof(PanelModel) + 80 + sizeof(occlusion::Panel) + 1 +
-                          charges_ * (sizeof(PanelEvent) + sizeof(float)));
+  bytes += size.load_panels * (sizeof(PanelModel) + 80 + sizeof(occlusion::Panel) + 1 +
+                               charges_ * (sizeof(PanelEvent) + sizeof(float)));
   // The body: its source, model, result entry and final state, three states (initial, running,
   // placed for contacts), three load sums (this step's, deferred, peak), the Model's and the
   // run's per-body scalars and a contact shape (256 B), and its name three times.
   bytes += sizeof(BodySource) + sizeof(dynamics::BodyModel) + sizeof(BodyInfo) +
            sizeof(FinalState) + 3 * sizeof(dynamics::BodyState) + 3 * sizeof(dynamics::StepLoads) +
-           256 + 3 * source.name.size() + charges_ * sizeof(float);
+           256 + 3 * size.name_bytes + charges_ * sizeof(float);
   // Frames: a movable body's pose in every frame while recording, and again in the Result's
   // frames if it moved (all may).
-  if (!source.anchored) bytes += frames_ * sizeof(Pose) * 2;
+  if (!size.anchored) bytes += frames_ * sizeof(Pose) * 2;
   return bytes;
 }
 
-void BudgetTally::add(const BodySource& source) {
-  ++bodies_;
-  if (source.fragment) ++fragments_;
-  panels_ += source.load_panels.size();
-  bytes_ += bytes_of(source);
+void BudgetTally::add(const BodySize& size, std::uint64_t copies) {
+  bodies_ += copies;
+  if (size.fragment) fragments_ += copies;
+  panels_ += size.load_panels * copies;
+  bytes_ += bytes_of(size) * copies;
   check();
 }
 

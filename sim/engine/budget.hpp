@@ -5,7 +5,9 @@
 // past either (RunOutcome::over_budget) instead of growing on.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <string>
 
 #include "sim/scene/scene.hpp"
@@ -26,5 +28,26 @@ struct OverBudget {
   Kind kind = Kind::limit;
   std::string message;  // what grew past what, and what to change
 };
+
+// A scene the run would certainly stop for its size, judged before it is queued
+// (budget_estimate.cpp): `object` is the scene object (index into Scene::objects) at which the
+// estimate passed a limit or the memory budget.
+struct BudgetRefusal {
+  std::size_t object = 0;
+  OverBudget what;
+};
+
+// Counts what the run will at least create, in the order the run creates it, without breaking a
+// pane: every object that is not a breakable pane exactly as the run counts it; a pane that stays
+// whole likewise; a pane that breaks (the run's own stress and growth length, from the same load)
+// as fewest_fragments(...) fragments of the smallest size a fragment can have. Every count and
+// byte is at most the run's, so a scene refused here is one the run would stop; a scene accepted
+// may still stop when its panes break. Cost: one plate model per breakable pane.
+std::optional<BudgetRefusal> refuse_before_run(const scene::Scene& scene, const RunBudget& budget);
+
+// A lower bound of the fragments a pane of width_m x height_m breaks into at this growth length
+// (docs/service.md, "Run size"): 0.1 (width + height) / growth length, at least 1. Measured
+// patterns give 0.22 to 13.9 times (width + height) / growth length.
+std::uint64_t fewest_fragments(double width_m, double height_m, double growth_length_m);
 
 }  // namespace brisance::engine

@@ -211,11 +211,24 @@ Box world_box(const BodySource& source);
 class BudgetTally {
  public:
   BudgetTally(const RunBudget& budget, const scene::Scene& scene);
+  // What a body's cost follows: the sizes of its mesh, panels and name, and whether it moves.
+  struct BodySize {
+    std::uint64_t vertices = 0;
+    std::uint64_t triangles = 0;
+    std::uint64_t load_panels = 0;
+    std::uint64_t drag_panels = 0;
+    std::uint64_t name_bytes = 0;
+    bool anchored = false;
+    bool fragment = false;  // a piece of a broken pane (counted against max_fragments)
+  };
+  static BodySize size_of(const BodySource& source);
   // A body the run creates: counted, then checked; throws RunOverBudget past a limit or the
-  // memory budget. `fragment`: a piece of a broken pane (counted against max_fragments).
-  void add(const BodySource& source);
-  // The bytes a body of this source costs the run, frames included (budget.cpp).
-  std::uint64_t bytes_of(const BodySource& source) const;
+  // memory budget.
+  void add(const BodySource& source) { add(size_of(source)); }
+  // `copies` bodies of one size at once (the estimate before a run, budget_estimate.cpp).
+  void add(const BodySize& size, std::uint64_t copies = 1);
+  // The bytes a body of this size costs the run, frames included (budget.cpp).
+  std::uint64_t bytes_of(const BodySize& size) const;
   std::uint64_t bytes() const { return bytes_; }
 
  private:

@@ -27,6 +27,19 @@ std::uint64_t mix_seed(std::uint64_t seed, std::uint64_t index) {
   return z ^ (z >> 31);
 }
 
+}  // namespace
+
+blast::PanelLoadOptions pane_load_options(const scene::ObjectSpec& object,
+                                          const scene::SimulationSpec& simulation,
+                                          const PaneSize& size) {
+  blast::PanelLoadOptions options;
+  options.shape = simulation.pulse_shape;
+  options.clearing = simulation.clearing;
+  options.clearing_distance_m = pane_clearing_distance_m(size);
+  options.drag_coefficient = object.drag_coefficient;
+  return options;
+}
+
 // The load on the face of the pane that faces each charge, at the pane's centre: the front-face
 // history the engine gives its fragments (pane_face_load: reflected at the angle of incidence,
 // cleared from the pane's own edges as `options` say), arriving at the curves' arrival time,
@@ -60,6 +73,8 @@ PaneLoad pane_load_at(const Vec3& centre, const Vec3& normal,
   if (std::isfinite(first)) load.clock_start_s = first;
   return load;
 }
+
+namespace {
 
 double earliest_arrival_s(const Vec3& point, const std::vector<ChargeModel>& charges) {
   double earliest = INFINITY;
@@ -144,13 +159,7 @@ PaneReport break_pane(const scene::ObjectSpec& object, std::size_t index,
   report.name = object.name;
   report.strength_pa = spec.strength_pa;
   const PaneSize size{width, height, thickness, object.mass_kg / (width * height * thickness)};
-  // The pane's front face as the engine loads its fragments' (run.cpp, prepare.cpp): the scene's
-  // pulse shape and clearing switch, S from the pane's own edges, the object's C_D.
-  blast::PanelLoadOptions options;
-  options.shape = simulation.pulse_shape;
-  options.clearing = simulation.clearing;
-  options.clearing_distance_m = pane_clearing_distance_m(size);
-  options.drag_coefficient = object.drag_coefficient;
+  const blast::PanelLoadOptions options = pane_load_options(object, simulation, size);
   Vec3 push;
   const PaneLoad load = pane_load_at(object.position, normal, charges, options, out_of_range, push);
   report.peak_pressure_pa = load.peak_pressure_pa;

@@ -10,11 +10,25 @@
 #include <vector>
 
 #include "sim/engine/model.hpp"
+#include "sim/engine/pane_pattern.hpp"
 
 namespace brisance::engine {
 
 // A scene object as a body source, its panels cut at max_panel_area_m2.
 BodySource object_source(const scene::ObjectSpec& object, double max_panel_area_m2);
+
+// How a pane's front face is loaded, as the engine loads its fragments' (run.cpp, prepare.cpp):
+// the scene's pulse shape and clearing switch, S from the pane's own edges, the object's C_D.
+blast::PanelLoadOptions pane_load_options(const scene::ObjectSpec& object,
+                                          const scene::SimulationSpec& simulation,
+                                          const PaneSize& size);
+
+// The load on the pane with centre `centre` and unit normal `normal` (world frame) from
+// `charges` with `options`: what break_pane judges the pane by (panes.cpp). Sets `out_of_range`
+// as break_pane does and `push` to the direction the largest peak pushes the pane.
+PaneLoad pane_load_at(const Vec3& centre, const Vec3& normal,
+                      const std::vector<ChargeModel>& charges,
+                      const blast::PanelLoadOptions& options, bool& out_of_range, Vec3& push);
 
 // Breaks the pane `object` (scene object `index`), appending its body sources
 // to `out`: the fragments (named "<pane>/f<k>"), or the pane itself unbroken (anchored when

@@ -96,6 +96,7 @@ class TestServer {
     service_options.default_callback_url = options.default_callback_url;
     service_options.max_asset_bytes = options.max_asset_bytes;
     service_options.max_glb_frame_samples = options.max_glb_frame_samples;
+    service_options.job_memory_bytes = options.job_memory_bytes;
     service_ = std::make_unique<server::JobService>(*storage_, service_options);
     if (options.callbacks)
       callbacks_ = std::make_unique<server::CallbackSender>(*service_, *options.callbacks);

@@ -110,6 +110,14 @@ export interface paths {
         /**
          * Submit a job
          * @description Validates the whole job at once (every problem is listed in a `422`), then queues it.
+         *     A scene whose run would certainly stop for its size is refused here too: its size is
+         *     judged from a lower bound of what the run creates (the bodies it lists; for each pane
+         *     that will break, a lower bound of its fragments, without breaking it) against
+         *     `max_fragments` (100 000), `max_panels` (2 000 000), frames x bodies (5 000 000) and
+         *     the server's `--job-memory-mb`, and the `422` points at the object where the count
+         *     passed the line (`/scene/objects/N`, or `/scene/generators` for a generated one). A
+         *     scene accepted may still end `failed` with `limit_exceeded` or
+         *     `memory_budget_exceeded` once its panes break into more fragments than the bound.
          *     With an `Idempotency-Key`, a retry with the same key and the same body returns the job
          *     the first request made (`200`) instead of a new one, even when the queue is full; the same
          *     key with a different body is a `422 idempotency-key-reused`. Keys are kept as long as
@@ -2862,8 +2870,9 @@ export interface operations {
             };
             /**
              * @description The job is invalid (`invalid-scene`, every problem in `errors[]` with a JSON pointer
-             *     into the request body), or its `Idempotency-Key` was used for a different body
-             *     (`idempotency-key-reused`).
+             *     into the request body; this includes a scene whose run would certainly pass the
+             *     run limits or the memory budget), or its `Idempotency-Key` was used for a different
+             *     body (`idempotency-key-reused`).
              */
             422: {
                 headers: {

@@ -20,8 +20,8 @@ namespace {
 using nlohmann::json;
 using Clock = std::chrono::steady_clock;
 
-// 100 framed windows in rows of ten, 50 kg of TNT 6 m in front: about 30 000 bodies once broken, seconds to
-// break and prepare in a release build, 630 MB.
+// 100 framed windows in rows of ten, 50 kg of TNT 6 m in front: about 30 000 bodies once broken,
+// seconds to break and prepare in a release build, 630 MB.
 json facade_of_windows() {
   json generators = json::array();
   for (int i = 0; i < 100; ++i) {

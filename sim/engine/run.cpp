@@ -164,6 +164,38 @@ void Run::release_held(double t0, double t1) {
   }
 }
 
+Vec3 Run::air_velocity(std::uint32_t b, double t) {
+  const std::size_t charges = model_.charges.size();
+  if (charges == 0 || model_.world.air_density_kg_m3 <= 0.0) return Vec3::Zero();
+  const dynamics::BodyState& state = state_.bodies[b];
+  if (state_.wind_until_s[b] < 0.0) {
+    // Found once, where the body is when it first moves: it moves little while the wave passes.
+    double until = 0.0;
+    for (std::size_t c = 0; c < charges; ++c) {
+      const double distance = std::max((state.position - model_.charges[c].position).norm(), 1e-3);
+      blast::BlastWind& wind = state_.wind[b * charges + c];
+      wind = blast::blast_wind(blast::blast_point(model_.charges[c].charge, distance),
+                               model_.load_options.shape);
+      until = std::max(until, wind.end_s());
+    }
+    state_.wind_until_s[b] = until;
+  }
+  if (t >= state_.wind_until_s[b]) return Vec3::Zero();
+  Vec3 air = Vec3::Zero();
+  for (std::size_t c = 0; c < charges; ++c) {
+    double speed = state_.wind[b * charges + c].velocity_m_s(t);
+    if (speed <= 0.0) continue;
+    // What shields the body from the charge takes its share of the dynamic pressure (thesis
+    // eq. 4.1), so of the wind its square root.
+    if (!model_.body_shielding.empty())
+      speed *= std::sqrt(std::max(0.0f, model_.body_shielding[c * model_.bodies.size() + b]));
+    const Vec3 away = state.position - model_.charges[c].position;
+    const double length = away.norm();
+    if (length > 0.0) air += speed / length * away;
+  }
+  return air;
+}
+
 void Run::integrate_awake(double dt) {
   const bool may_sleep = model_.timing.sleep && model_.ground.has_value();
   double max_angular_squared = 0.0;
@@ -176,7 +208,23 @@ void Run::integrate_awake(double dt) {
     const dynamics::BodyState before = state;
     // Most bodies carry no load: their step does not read state_.loads (72 bytes a body).
     static const dynamics::StepLoads kNoLoads{};
-    const dynamics::StepLoads& loads = state_.is_loaded[b] ? state_.loads[b] : kNoLoads;
+    const dynamics::StepLoads* step_loads = state_.is_loaded[b] ? &state_.loads[b] : &kNoLoads;
+    // The blast wind over the step (at its middle): flight drag acts on the velocity relative
+    // to it (docs/simulator.md). A body its panels load already takes the drag of the wind on a
+    // body at rest from them (the faces' C_D q): that much is taken off again, so only the
+    // change the body's own motion makes is added.
+    const Vec3 air = air_velocity(b, state_.step_start_s + 0.5 * dt);
+    dynamics::StepLoads with_wind;
+    if (state_.is_loaded[b] && !air.isZero(0.0)) {
+      const double wind = air.norm();
+      const Vec3 direction_body = state.orientation.conjugate() * (air * (1.0 / wind));
+      const double drag_at_rest = 0.5 * model_.world.air_density_kg_m3 * body.drag_coefficient *
+                                  body.drag_shape.projected_area_m2(direction_body) * wind * wind;
+      with_wind = *step_loads;
+      with_wind.impulse -= drag_at_rest * dt * (air * (1.0 / wind));
+      step_loads = &with_wind;
+    }
+    const dynamics::StepLoads& loads = *step_loads;
     // A body that touched another last step meets the ground in the solve of the contacts
     // between bodies (collide.cpp), with the bodies on it: solved here first, apart from
     // them, its ground contact stopped it alone and the weight above it then tipped it.
@@ -190,7 +238,7 @@ void Run::integrate_awake(double dt) {
     Vec3 omega = Vec3::Zero();
     bool touching = false;
     if (substeps == 1) {
-      omega = dynamics::integrate(body, state, loads, model_.world, dt);
+      omega = dynamics::integrate(body, state, loads, model_.world, dt, air);
       if (model_.ground && !ground_with_bodies)
         touching =
             dynamics::resolve_ground_contact(body, state, *model_.ground, &state_.contacts[b]);
@@ -198,7 +246,7 @@ void Run::integrate_awake(double dt) {
       // The step's impulse acts in the first substep, as it acts at the start of a step.
       const double h = dt / static_cast<double>(substeps);
       for (int k = 0; k < substeps; ++k) {
-        omega = dynamics::integrate(body, state, k == 0 ? loads : kNoLoads, model_.world, h);
+        omega = dynamics::integrate(body, state, k == 0 ? loads : kNoLoads, model_.world, h, air);
         touching =
             dynamics::resolve_ground_contact(body, state, *model_.ground, &state_.contacts[b]);
       }
@@ -330,6 +378,8 @@ void Run::init() {
   state_.peak_force_n.assign(bodies, Vec3::Zero());
   state_.loaded_from_s.assign(bodies, 0.0);
   state_.deferred.assign(bodies, dynamics::StepLoads{});
+  state_.wind.assign(bodies * model_.charges.size(), blast::BlastWind{});
+  state_.wind_until_s.assign(bodies, -1.0);
   state_.loads.assign(bodies, dynamics::StepLoads{});
   state_.release_time_s.assign(bodies, -1.0);
   state_.launch_speed_m_s.assign(bodies, -1.0);
@@ -351,6 +401,7 @@ void Run::init() {
 // body, in the same pass as the integration, so the states are swept once; contacts between
 // bodies follow (collide.cpp).
 void Run::step(double t0, double t1) {
+  state_.step_start_s = t0;
   activate_arrivals(t1);
   apply_loads(t0, t1);
   release_held(t0, t1);

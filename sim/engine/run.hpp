@@ -49,6 +49,11 @@ struct RunState {
   // Fragments: when each broke free and its speed once its blast load ended (launch), or -1.
   std::vector<double> release_time_s;
   std::vector<double> launch_speed_m_s;
+  // The blast wind each body moves in (blast::BlastWind, body-major: [b * charges + c]), found
+  // when the body first moves, and the time after which it is still air (-1: not yet found).
+  std::vector<blast::BlastWind> wind;
+  std::vector<double> wind_until_s;
+  double step_start_s = 0.0;
   std::vector<ActiveLoad> active;         // waves acting on panels
   std::size_t next_event = 0;             // into Model::events
   std::vector<std::uint32_t> candidates;  // bodies that may move (all but anchored)
@@ -107,7 +112,10 @@ class Run {
   void apply_loads(double t0, double t1);
   void release_held(double t0, double t1);
   void integrate_awake(double dt);  // with ground contact and sleeping
-  void collide(double dt);          // contacts between bodies (collide.cpp)
+  // The air's velocity at body b at time t: the blast wind of every charge (zero before its
+  // arrival and after its positive phase), m/s, world frame.
+  Vec3 air_velocity(std::uint32_t b, double t);
+  void collide(double dt);  // contacts between bodies (collide.cpp)
   void init_collisions();
   void sleep_after_contacts(double dt);
 

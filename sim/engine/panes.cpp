@@ -230,9 +230,25 @@ PaneReport break_pane(const scene::ObjectSpec& object, std::size_t index,
     break_speed =
         load.history.impulse_pa_s(0.0, response.plate.break_time_s) / (density * thickness);
   }
+  // Fracture runs with the wave: the cracks start where and when the stress first reaches the
+  // strength — at the pattern's nucleation points (the pane's centre, where a uniformly loaded
+  // plate's stress peaks), at the dynamic plate's break time (the first arrival for the static
+  // model or a forced break) — and run out at the terminal crack speed of glass. A fragment is
+  // free only once the front has passed all of its outline (its cracks have closed around it).
+  std::vector<Vec2> nuclei = params.initial.centres_m;
+  if (nuclei.empty()) nuclei.push_back(half);
+  const double cracks_start_s = load.clock_start_s + std::max(response.plate.break_time_s, 0.0);
+  report.cracks_start_s = cracks_start_s;
   for (std::size_t k = 0; k < pattern.fragments.size(); ++k) {
     checkpoint.tick(256);
     const fracture::Fragment& piece = pattern.fragments[k];
+    double closed_at_m = INFINITY;  // the front's run from the nearest nucleus around the piece
+    for (const Vec2& nucleus : nuclei) {
+      double farthest = 0.0;
+      for (const Vec2& v : piece.polygon_m)
+        farthest = std::max(farthest, (v - nucleus).norm());
+      closed_at_m = std::min(closed_at_m, farthest);
+    }
     geometry::Polygon local = geometry::remove_collinear(piece.polygon_m);
     for (Vec2& v : local)
       v -= half;
@@ -253,7 +269,9 @@ PaneReport break_pane(const scene::ObjectSpec& object, std::size_t index,
     body.breakaway_hold_n = hold;
     const Vec3 centroid_world = object.position + q * Vec3(piece.centroid_m.x() - half.x(),
                                                            piece.centroid_m.y() - half.y(), 0.0);
-    body.release_not_before_s = earliest_arrival_s(centroid_world, charges);
+    body.release_not_before_s =
+        std::max(earliest_arrival_s(centroid_world, charges),
+                 cracks_start_s + closed_at_m / fracture::kTerminalCrackSpeed_m_s);
     if (inherits && mode_mean > 0.0)
       body.release_velocity_m_s = break_speed * (mode[k] / mode_mean - 1.0) * push;
     body.mesh = geometry::extrude(local, thickness);

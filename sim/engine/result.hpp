@@ -103,6 +103,11 @@ struct PaneReport {
   // Mean launch speed weighted by mass (the released fragments' momentum over their mass), m/s:
   // what the wave's impulse bounds (i_r / (rho h) for a pane with a sheltered back).
   double launch_speed_mass_weighted_m_s = 0.0;
+  // When the pane's cracks start, s after detonation (its stress first reaches its strength; the
+  // first arrival for the static model or a forced break); -1 if unbroken. They run out from the
+  // pane's centre at fracture::kTerminalCrackSpeed_m_s, and no fragment is free before the front
+  // has passed all of its outline.
+  double cracks_start_s = -1.0;
   std::uint64_t released = 0;
   // Per fragment, in body order: when it broke free (s), or a negative value if it never did
   // (held by the frame or the crack interlock; such fragments stay in place, static).

@@ -114,6 +114,21 @@ void Run::apply_loads(double t0, double t1) {
 }
 
 void Run::release_held(double t0, double t1) {
+  // Fragments whose load beat their hold while their cracks were still closing go once the
+  // crack front has passed them, loaded this step or not (the wave may have passed by then).
+  std::size_t waiting = 0;
+  for (std::uint32_t body : state_.pending_release) {
+    if (state_.motion[body] != Motion::held) continue;
+    if (t1 < model_.release_not_before_s[body]) {
+      state_.pending_release[waiting++] = body;
+    } else if (!state_.is_loaded[body]) {
+      state_.is_loaded[body] = 1;
+      state_.loaded_bodies.push_back(body);
+      state_.peak_force_n[body].setZero();
+      state_.loaded_from_s[body] = t1;
+    }
+  }
+  state_.pending_release.resize(waiting);
   for (std::uint32_t body : state_.loaded_bodies) {
     if (state_.motion[body] == Motion::asleep) {
       state_.motion[body] = Motion::awake;  // a later wave wakes a resting body
@@ -122,11 +137,21 @@ void Run::release_held(double t0, double t1) {
     const double hold = model_.hold_force_n[body];  // mu N, N
     dynamics::StepLoads& loads = state_.loads[body];
     if (state_.motion[body] == Motion::held) {
-      // A fragment breaks free once the wave has reached its centroid and its load beats its
-      // hold (thesis §6.7); the loads of its panels reached earlier are taken by the hold.
+      // A fragment breaks free once its load has beaten its hold (thesis §6.7) and the wave has
+      // reached its centroid and the crack front has passed all of its outline (its cracks have
+      // closed around it); the loads of its panels reached earlier are taken by the hold.
       const double not_before = model_.release_not_before_s[body];
       const bool fragment = model_.fragment[body] != 0;
-      if (t1 < not_before || state_.peak_force_n[body].norm() <= hold) {
+      double judged = state_.peak_force_n[body].norm();
+      bool beaten_now = false;  // its load beats its hold for the first time
+      if (fragment) {
+        const double before = state_.held_peak_force_n[body];
+        state_.held_peak_force_n[body] = std::max(before, judged);
+        judged = state_.held_peak_force_n[body];
+        beaten_now = before <= hold && judged > hold;
+      }
+      if (t1 < not_before || judged <= hold) {
+        if (beaten_now) state_.pending_release.push_back(body);
         // A fragment's load moves its pane until it breaks free; a resting body's is taken by
         // static friction.
         if (fragment) {
@@ -378,6 +403,7 @@ void Run::init() {
   state_.peak_force_n.assign(bodies, Vec3::Zero());
   state_.loaded_from_s.assign(bodies, 0.0);
   state_.deferred.assign(bodies, dynamics::StepLoads{});
+  state_.held_peak_force_n.assign(bodies, 0.0);
   state_.wind.assign(bodies * model_.charges.size(), blast::BlastWind{});
   state_.wind_until_s.assign(bodies, -1.0);
   state_.loads.assign(bodies, dynamics::StepLoads{});
@@ -419,6 +445,7 @@ void Run::activate_arrivals(double t1) {
 
 bool Run::quiet() const {
   return state_.active.empty() && state_.next_event == model_.events.size() &&
+         state_.pending_release.empty() &&
          std::find(state_.motion.begin(), state_.motion.end(), Motion::awake) ==
              state_.motion.end();
 }

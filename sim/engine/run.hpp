@@ -46,6 +46,10 @@ struct RunState {
   // Fragments held in their pane: the loads taken while held, world frame, given to the
   // fragment when it breaks free (the pane bends and moves with them before it cracks through).
   std::vector<dynamics::StepLoads> deferred;
+  // Held fragments: the largest load they have felt (N), and those whose load has beaten their
+  // hold and who wait only for the crack front to free them (release_not_before_s).
+  std::vector<double> held_peak_force_n;
+  std::vector<std::uint32_t> pending_release;
   // Fragments: when each broke free and its speed once its blast load ended (launch), or -1.
   std::vector<double> release_time_s;
   std::vector<double> launch_speed_m_s;

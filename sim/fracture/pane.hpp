@@ -19,6 +19,12 @@ namespace brisance::fracture {
 double roark_beta(double aspect_ratio);
 double roark_alpha(double aspect_ratio);
 
+// The terminal speed of a running crack in soda-lime (window) glass, m/s: about 1 500 m/s, the
+// limiting velocity H. Schardin measured with high-speed photography of cracks in plate glass
+// ("Velocity effects in fracture", in B. L. Averbach et al. (eds.), Fracture, 1959). A broken
+// pane's cracks run out from their nucleation points at this speed (engine::break_pane).
+inline constexpr double kTerminalCrackSpeed_m_s = 1500.0;
+
 struct PlateResponse {
   double stress_pa = 0.0;        // sigma_max
   double deflection_m = 0.0;     // y_max

@@ -99,6 +99,7 @@ engine::Result synthetic_result() {
   pane.launch_speed_m_s = {.count = 1, .mean = 3, .min = 3, .p10 = 3, .p50 = 3, .p90 = 3, .max = 3};
   pane.launch_speed_larger_half_m_s = 3;
   pane.launch_speed_mass_weighted_m_s = 2.5;
+  pane.cracks_start_s = 0.0125;
   pane.released = 1;
   pane.release_times_s = {0.0173, -1.0};
   pane.release_time_s = {.count = 1,
@@ -263,7 +264,7 @@ TEST(ResultJson, FractureHoldsEveryPaneField) {
   const json fracture = round_trip(synthetic_result())["fracture"];
   ASSERT_EQ(fracture.size(), 1u);
   const json& pane = fracture[0];
-  EXPECT_EQ(pane.size(), 24u) << pane.dump();
+  EXPECT_EQ(pane.size(), 25u) << pane.dump();
   EXPECT_EQ(pane["name"], "window/pane");
   EXPECT_EQ(pane["broken"], true);
   EXPECT_EQ(pane["forced"], false);
@@ -288,6 +289,7 @@ TEST(ResultJson, FractureHoldsEveryPaneField) {
   EXPECT_EQ(pane["launch_speed_m_s"]["mean"], 3.0);
   EXPECT_EQ(pane["launch_speed_larger_half_m_s"], 3.0);
   EXPECT_EQ(pane["launch_speed_mass_weighted_m_s"], 2.5);
+  EXPECT_EQ(pane["cracks_start_s"], 0.0125);
   EXPECT_EQ(pane["launch_speed_smaller_half_m_s"], 0.0);
   EXPECT_EQ(pane["released"], 1);
   // A fragment that never broke free is null.

@@ -17,6 +17,7 @@
 #include "sim/engine/panes.hpp"
 #include "sim/geometry/mesh.hpp"
 #include "sim/occlusion/shielding.hpp"
+#include "tests/sim/engine/scene_builder.hpp"
 
 namespace {
 
@@ -147,28 +148,7 @@ void BM_ClearingSurfacesSphere(benchmark::State& state) {
   brisance::scene::ObjectSpec ball;
   ball.name = "ball";
   ball.shape = brisance::scene::ShapeType::mesh;
-  ball.mesh.vertices.emplace_back(0.0, 1.0, 0.0);
-  for (int i = 1; i < rings; ++i)
-    for (int j = 0; j < around; ++j) {
-      const double theta = 3.141592653589793 * i / rings;
-      const double phi = 2.0 * 3.141592653589793 * j / around;
-      ball.mesh.vertices.emplace_back(std::sin(theta) * std::cos(phi), std::cos(theta),
-                                      std::sin(theta) * std::sin(phi));
-    }
-  ball.mesh.vertices.emplace_back(0.0, -1.0, 0.0);
-  const auto ring = [&](int i, int j) {
-    return static_cast<std::uint32_t>(1 + i * around + (j % around));
-  };
-  for (int j = 0; j < around; ++j)
-    ball.mesh.triangles.push_back({0, ring(0, j + 1), ring(0, j)});
-  for (int i = 0; i + 2 < rings; ++i)
-    for (int j = 0; j < around; ++j) {
-      ball.mesh.triangles.push_back({ring(i, j), ring(i, j + 1), ring(i + 1, j + 1)});
-      ball.mesh.triangles.push_back({ring(i, j), ring(i + 1, j + 1), ring(i + 1, j)});
-    }
-  const auto last = static_cast<std::uint32_t>(ball.mesh.vertices.size() - 1);
-  for (int j = 0; j < around; ++j)
-    ball.mesh.triangles.push_back({last, ring(rings - 2, j), ring(rings - 2, j + 1)});
+  ball.mesh = brisance::testing::uv_sphere(rings, around);
   ball.mass_kg = 1.0;
   const std::vector<engine::BodySource> sources = {engine::object_source(ball, 1e9)};
   engine::Model model;

@@ -112,6 +112,20 @@ double clearing_delay_s(const Charge& charge, double h_m, double rho_m,
   return std::max(edge - arrival(rho_m), 0.0);
 }
 
+PanelWave panel_wave(const BlastPoint& point, double cos_incidence,
+                     double reflected_overpressure_pa, double reflected_impulse_pa_s) {
+  PanelWave wave;
+  wave.incident_overpressure_pa = point.incident_overpressure_pa;
+  wave.incident_impulse_pa_s = point.incident_impulse_pa_s;
+  wave.positive_duration_s = point.positive_duration_s;
+  wave.shock_velocity_m_s = point.shock_velocity_m_s;
+  wave.dynamic_pressure_pa = point.dynamic_pressure_pa;
+  wave.cos_incidence = std::clamp(cos_incidence, 0.0, 1.0);
+  wave.reflected_overpressure_pa = reflected_overpressure_pa;
+  wave.reflected_impulse_pa_s = reflected_impulse_pa_s;
+  return wave;
+}
+
 FaceKind face_kind(double cos_incidence) {
   if (cos_incidence > kSideBand) return FaceKind::front;
   if (cos_incidence < -kSideBand) return FaceKind::rear;

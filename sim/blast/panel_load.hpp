@@ -23,6 +23,11 @@ struct PanelWave {
   double cos_incidence = 1.0;              // cosine of the angle between wave direction and normal
 };
 
+// The wave of `point` meeting a panel at `cos_incidence` (clamped to [0, 1]), with the reflected
+// peak and impulse at that angle (oblique reflection; 0 where the wave does not strike the face).
+PanelWave panel_wave(const BlastPoint& point, double cos_incidence,
+                     double reflected_overpressure_pa = 0.0, double reflected_impulse_pa_s = 0.0);
+
 struct PanelLoadOptions {
   PulseShape shape = PulseShape::friedlander;
   // Relief of the reflected pressure from the panel's edges (thesis eqs. 2.30–2.31).

@@ -63,15 +63,8 @@ PaneFaceLoad pane_face_load(const blast::Charge& charge, double distance_m, doub
         point.incident_impulse_pa_s > 0.0))
     return out;  // no pulse: an empty history
   // The wave as Run::activate builds it for a front face.
-  blast::PanelWave wave;
-  wave.incident_overpressure_pa = point.incident_overpressure_pa;
-  wave.incident_impulse_pa_s = point.incident_impulse_pa_s;
-  wave.positive_duration_s = point.positive_duration_s;
-  wave.shock_velocity_m_s = point.shock_velocity_m_s;
-  wave.dynamic_pressure_pa = point.dynamic_pressure_pa;
-  wave.cos_incidence = cos_a;
-  wave.reflected_overpressure_pa = reflection.overpressure_pa;
-  wave.reflected_impulse_pa_s = reflection.impulse_pa_s;
+  const blast::PanelWave wave =
+      blast::panel_wave(point, cos_a, reflection.overpressure_pa, reflection.impulse_pa_s);
   // The relief waits for the wave at the pane's edges, as Run::activate has it for a front panel.
   blast::PanelLoadOptions cleared = options;
   if (cleared.clearing)

@@ -39,13 +39,7 @@ void Run::activate(const PanelEvent& event) {
   if (panel.sheltered && kind != blast::FaceKind::front) return;
   const blast::BlastPoint point = blast::blast_point(charge.charge, distance);
   if (!point.in_validity_range) warnings_.add("blast_out_of_range", kBlastOutOfRangeMessage);
-  blast::PanelWave wave;
-  wave.incident_overpressure_pa = point.incident_overpressure_pa;
-  wave.incident_impulse_pa_s = point.incident_impulse_pa_s;
-  wave.positive_duration_s = point.positive_duration_s;
-  wave.shock_velocity_m_s = point.shock_velocity_m_s;
-  wave.dynamic_pressure_pa = point.dynamic_pressure_pa;
-  wave.cos_incidence = std::max(cos_incidence, 0.0);
+  blast::PanelWave wave = blast::panel_wave(point, cos_incidence);
   if (kind == blast::FaceKind::front) {
     const blast::ObliqueReflection reflection =
         blast::oblique_reflection(point.incident_overpressure_pa, point.incident_impulse_pa_s,

@@ -302,29 +302,7 @@ TEST(ClearingSurfaces, SameSurfacesAsThePairSearchForASphere) {
   scene::ObjectSpec ball;
   ball.name = "ball";
   ball.shape = scene::ShapeType::mesh;
-  ball.mesh.vertices.emplace_back(0.0, 1.0, 0.0);
-  for (int i = 1; i < rings; ++i) {
-    const double theta = std::numbers::pi * i / rings;
-    for (int j = 0; j < around; ++j) {
-      const double phi = 2.0 * std::numbers::pi * j / around;
-      ball.mesh.vertices.emplace_back(std::sin(theta) * std::cos(phi), std::cos(theta),
-                                      std::sin(theta) * std::sin(phi));
-    }
-  }
-  ball.mesh.vertices.emplace_back(0.0, -1.0, 0.0);
-  const auto ring = [&](int i, int j) {
-    return static_cast<std::uint32_t>(1 + i * around + (j % around));
-  };
-  for (int j = 0; j < around; ++j)
-    ball.mesh.triangles.push_back({0, ring(0, j + 1), ring(0, j)});
-  for (int i = 0; i + 2 < rings; ++i)
-    for (int j = 0; j < around; ++j) {
-      ball.mesh.triangles.push_back({ring(i, j), ring(i, j + 1), ring(i + 1, j + 1)});
-      ball.mesh.triangles.push_back({ring(i, j), ring(i + 1, j + 1), ring(i + 1, j)});
-    }
-  const auto last = static_cast<std::uint32_t>(ball.mesh.vertices.size() - 1);
-  for (int j = 0; j < around; ++j)
-    ball.mesh.triangles.push_back({last, ring(rings - 2, j), ring(rings - 2, j + 1)});
+  ball.mesh = testing::uv_sphere(rings, around);
   ball.mass_kg = 1.0;
   std::vector<BodySource> sources;
   sources.push_back(object_source(ball, 1e9));

@@ -1,6 +1,8 @@
 // Builds scenes in code for engine tests and benchmarks (the JSON parser is tested elsewhere).
 #pragma once
 
+#include <cmath>
+#include <cstdint>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
@@ -54,6 +56,37 @@ inline scene::ChargeSpec tnt(double mass_kg, const Eigen::Vector3d& position) {
   charge.mass_kg = mass_kg;
   charge.position = position;
   return charge;
+}
+
+// A closed unit sphere of `rings` bands of latitude and `around` facets each (poles as fans):
+// every facet in its own tangent plane.
+inline geometry::TriangleMesh uv_sphere(int rings, int around) {
+  constexpr double kPi = 3.141592653589793;
+  geometry::TriangleMesh mesh;
+  mesh.vertices.emplace_back(0.0, 1.0, 0.0);
+  for (int i = 1; i < rings; ++i) {
+    const double theta = kPi * i / rings;
+    for (int j = 0; j < around; ++j) {
+      const double phi = 2.0 * kPi * j / around;
+      mesh.vertices.emplace_back(std::sin(theta) * std::cos(phi), std::cos(theta),
+                                 std::sin(theta) * std::sin(phi));
+    }
+  }
+  mesh.vertices.emplace_back(0.0, -1.0, 0.0);
+  const auto ring = [&](int i, int j) {
+    return static_cast<std::uint32_t>(1 + i * around + (j % around));
+  };
+  for (int j = 0; j < around; ++j)
+    mesh.triangles.push_back({0, ring(0, j + 1), ring(0, j)});
+  for (int i = 0; i + 2 < rings; ++i)
+    for (int j = 0; j < around; ++j) {
+      mesh.triangles.push_back({ring(i, j), ring(i, j + 1), ring(i + 1, j + 1)});
+      mesh.triangles.push_back({ring(i, j), ring(i + 1, j + 1), ring(i + 1, j)});
+    }
+  const auto last = static_cast<std::uint32_t>(mesh.vertices.size() - 1);
+  for (int j = 0; j < around; ++j)
+    mesh.triangles.push_back({last, ring(rings - 2, j), ring(rings - 2, j + 1)});
+  return mesh;
 }
 
 // No gravity, no air, no ground: only the blast acts.

@@ -291,14 +291,8 @@ TEST(PaneCoupling, BreakageTakesTheClearedFrontFaceItsFragmentsTake) {
   blast::Charge charge;
   charge.tnt_equivalent_kg = 10.0;
   const blast::BlastPoint point = blast::blast_point(charge, 10.0);
-  blast::PanelWave wave;
-  wave.incident_overpressure_pa = point.incident_overpressure_pa;
-  wave.incident_impulse_pa_s = point.incident_impulse_pa_s;
-  wave.positive_duration_s = point.positive_duration_s;
-  wave.shock_velocity_m_s = point.shock_velocity_m_s;
-  wave.dynamic_pressure_pa = point.dynamic_pressure_pa;
-  wave.reflected_overpressure_pa = point.reflected_overpressure_pa;
-  wave.reflected_impulse_pa_s = point.reflected_impulse_pa_s;
+  const blast::PanelWave wave =
+      blast::panel_wave(point, 1.0, point.reflected_overpressure_pa, point.reflected_impulse_pa_s);
   blast::PanelLoadOptions options;
   options.clearing_distance_m = 0.45;
   options.clearing_delay_s = blast::clearing_delay_s(charge, 10.0, 0.0, 0.45);  // head-on
@@ -362,14 +356,8 @@ TEST(PaneCoupling, FragmentsLeaveWithThePlatesVelocityShape) {
   blast::Charge charge;
   charge.tnt_equivalent_kg = 10.0;
   const blast::BlastPoint point = blast::blast_point(charge, 10.0);
-  blast::PanelWave wave;
-  wave.incident_overpressure_pa = point.incident_overpressure_pa;
-  wave.incident_impulse_pa_s = point.incident_impulse_pa_s;
-  wave.positive_duration_s = point.positive_duration_s;
-  wave.shock_velocity_m_s = point.shock_velocity_m_s;
-  wave.dynamic_pressure_pa = point.dynamic_pressure_pa;
-  wave.reflected_overpressure_pa = point.reflected_overpressure_pa;
-  wave.reflected_impulse_pa_s = point.reflected_impulse_pa_s;
+  const blast::PanelWave wave =
+      blast::panel_wave(point, 1.0, point.reflected_overpressure_pa, point.reflected_impulse_pa_s);
   blast::PanelLoadOptions options;
   options.clearing_distance_m = 0.45;
   const double per_mass =

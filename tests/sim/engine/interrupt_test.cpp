@@ -51,37 +51,6 @@ scene::Scene many_panes(int count, int grid = 2048) {
   return s;
 }
 
-// A closed UV sphere of radius 1 m: `around` x (`rings` - 2) x 2 + 2 x `around` triangles, every
-// face in a plane of its own at offset 1 m from the centre.
-geometry::TriangleMesh sphere(int around, int rings) {
-  geometry::TriangleMesh mesh;
-  mesh.vertices.emplace_back(0.0, 1.0, 0.0);
-  for (int i = 1; i < rings; ++i) {
-    const double theta = std::numbers::pi * i / rings;
-    for (int j = 0; j < around; ++j) {
-      const double phi = 2.0 * std::numbers::pi * j / around;
-      mesh.vertices.emplace_back(std::sin(theta) * std::cos(phi), std::cos(theta),
-                                 std::sin(theta) * std::sin(phi));
-    }
-  }
-  mesh.vertices.emplace_back(0.0, -1.0, 0.0);
-  const auto ring = [&](int i, int j) {
-    return static_cast<std::uint32_t>(1 + i * around + (j % around));
-  };
-  for (int j = 0; j < around; ++j)
-    mesh.triangles.push_back({0, ring(0, j + 1), ring(0, j)});
-  for (int i = 0; i + 2 < rings; ++i) {
-    for (int j = 0; j < around; ++j) {
-      mesh.triangles.push_back({ring(i, j), ring(i, j + 1), ring(i + 1, j + 1)});
-      mesh.triangles.push_back({ring(i, j), ring(i + 1, j + 1), ring(i + 1, j)});
-    }
-  }
-  const auto last = static_cast<std::uint32_t>(mesh.vertices.size() - 1);
-  for (int j = 0; j < around; ++j)
-    mesh.triangles.push_back({last, ring(rings - 2, j), ring(rings - 2, j + 1)});
-  return mesh;
-}
-
 TEST(Interrupt, CancelStopsWhileThePanesBreak) {
   const scene::Scene s = many_panes(100);
   // Cancelled at the first poll: the run stops while breaking the first pane. Before, the first
@@ -136,7 +105,7 @@ TEST(Interrupt, ATimeLimitEndsPrepareOfALargeMesh) {
   scene::ObjectSpec ball;
   ball.name = "ball";
   ball.shape = scene::ShapeType::mesh;
-  ball.mesh = sphere(200, 100);  // 39 600 triangles, 19 802 vertices
+  ball.mesh = testing::uv_sphere(100, 200);  // 39 600 triangles, 19 802 vertices
   ASSERT_FALSE(geometry::check_closed_mesh(ball.mesh));
   ball.position = Vec3(0.0, 1.0, 0.0);
   ball.mass_kg = 100.0;

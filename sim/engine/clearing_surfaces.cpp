@@ -318,7 +318,10 @@ void share_clearing_across_surfaces(const std::vector<BodySource>& sources, Mode
   }
   std::map<std::size_t, double> half_size;
   std::vector<std::uint32_t> stack;
-  for (const auto& [root, surface] : surfaces) {
+  for (const auto& entry : surfaces) {
+    // Not a structured binding: clang before 16 cannot capture one in the lambda below.
+    const std::size_t root = entry.first;
+    const auto& surface = entry.second;
     checkpoint.tick(64);
     Vec3 u = Vec3::UnitY().cross(surface.normal);
     if (u.norm() < 1e-6) u = Vec3::UnitX().cross(surface.normal);

@@ -102,6 +102,33 @@ BENCHMARK(BM_SphereMap)->Arg(32)->Arg(64)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 
+// The part of a prepared model the clearing-surface search reads: each body's centre of mass
+// and its load panels.
+brisance::engine::Model panels_of(const std::vector<brisance::engine::BodySource>& sources) {
+  brisance::engine::Model model;
+  for (std::uint32_t b = 0; b < sources.size(); ++b) {
+    const Vec3 com = sources[b].unit_mass.centre_of_mass;
+    model.centre_of_mass.push_back(com);
+    for (const geometry::Panel& panel : sources[b].load_panels)
+      model.panels.push_back({b, panel.centre - com, panel.outward_normal, panel.area_m2,
+                              panel.face_half_size_m, std::sqrt(panel.area_m2), false});
+  }
+  return model;
+}
+
+// Times the clearing-surface search over `sources` (a fresh copy of their panels each time).
+void time_clearing(benchmark::State& state,
+                   const std::vector<brisance::engine::BodySource>& sources) {
+  const brisance::engine::Model model = panels_of(sources);
+  brisance::engine::Checkpoint never;
+  for (auto _ : state) {
+    brisance::engine::Model run = model;
+    brisance::engine::share_clearing_across_surfaces(sources, run, never);
+    benchmark::DoNotOptimize(run.panels.data());
+  }
+  state.counters["panels"] = static_cast<double>(model.panels.size());
+}
+
 // Another prepare stage that looks across panels: the clearing-surface search
 // (sim/engine/clearing_surfaces.cpp) over one 10 x 10 x 0.1 m slab whose faces are cut into
 // panels of 100 / N m^2, so each large face holds about N coplanar panels (issue 15: the search
@@ -116,21 +143,7 @@ void BM_ClearingSurfaces(benchmark::State& state) {
   slab.mass_kg = 1000.0;
   const std::vector<engine::BodySource> sources = {
       engine::object_source(slab, 100.0 / static_cast<double>(state.range(0)))};
-  engine::Model model;
-  for (std::uint32_t b = 0; b < sources.size(); ++b) {
-    const Vec3 com = sources[b].unit_mass.centre_of_mass;
-    model.centre_of_mass.push_back(com);
-    for (const geometry::Panel& panel : sources[b].load_panels)
-      model.panels.push_back({b, panel.centre - com, panel.outward_normal, panel.area_m2,
-                              panel.face_half_size_m, std::sqrt(panel.area_m2), false});
-  }
-  engine::Checkpoint never;
-  for (auto _ : state) {
-    engine::Model run = model;
-    engine::share_clearing_across_surfaces(sources, run, never);
-    benchmark::DoNotOptimize(run.panels.data());
-  }
-  state.counters["panels"] = static_cast<double>(model.panels.size());
+  time_clearing(state, sources);
 }
 BENCHMARK(BM_ClearingSurfaces)
     ->Arg(1000)
@@ -151,19 +164,7 @@ void BM_ClearingSurfacesSphere(benchmark::State& state) {
   ball.mesh = brisance::testing::uv_sphere(rings, around);
   ball.mass_kg = 1.0;
   const std::vector<engine::BodySource> sources = {engine::object_source(ball, 1e9)};
-  engine::Model model;
-  const Vec3 com = sources[0].unit_mass.centre_of_mass;
-  model.centre_of_mass.push_back(com);
-  for (const geometry::Panel& panel : sources[0].load_panels)
-    model.panels.push_back({0, panel.centre - com, panel.outward_normal, panel.area_m2,
-                            panel.face_half_size_m, std::sqrt(panel.area_m2), false});
-  engine::Checkpoint never;
-  for (auto _ : state) {
-    engine::Model run = model;
-    engine::share_clearing_across_surfaces(sources, run, never);
-    benchmark::DoNotOptimize(run.panels.data());
-  }
-  state.counters["panels"] = static_cast<double>(model.panels.size());
+  time_clearing(state, sources);
 }
 BENCHMARK(BM_ClearingSurfacesSphere)
     ->Arg(32)

@@ -276,6 +276,28 @@ TEST(PaneCoupling, DeterministicFragmentsAndFrames) {
   EXPECT_NE(masses(simulate(s).result), masses(a));
 }
 
+// window.json's pane centre, head-on 10 m from 10 kg of TNT.
+blast::BlastPoint window_blast_point() {
+  blast::Charge charge;
+  charge.tnt_equivalent_kg = 10.0;
+  return blast::blast_point(charge, 10.0);
+}
+
+// Its front face written out from the parts (not through pane_face_load, which is what the
+// tests check): the reflected pulse cleared from the pane's edges (S = 0.45 m), the relief
+// delayed by the wave's sweep to them (head-on: h = 10 m, rho = 0).
+blast::PressureHistory window_front_face_by_hand() {
+  blast::Charge charge;
+  charge.tnt_equivalent_kg = 10.0;
+  const blast::BlastPoint point = window_blast_point();
+  const blast::PanelWave wave =
+      blast::panel_wave(point, 1.0, point.reflected_overpressure_pa, point.reflected_impulse_pa_s);
+  blast::PanelLoadOptions options;
+  options.clearing_distance_m = 0.45;
+  options.clearing_delay_s = blast::clearing_delay_s(charge, 10.0, 0.0, 0.45);
+  return blast::front_face_history(wave, options);
+}
+
 TEST(PaneCoupling, BreakageTakesTheClearedFrontFaceItsFragmentsTake) {
   // The pane is judged under the history its fragments' front faces take in the run: the
   // reflected pulse relieved from the pane's edges (S = half the shorter side, 0.45 m) over
@@ -288,17 +310,10 @@ TEST(PaneCoupling, BreakageTakesTheClearedFrontFaceItsFragmentsTake) {
   const PaneReport uncleared = simulate(off).result.fracture.at(0);
   EXPECT_EQ(cleared.peak_pressure_pa, uncleared.peak_pressure_pa);  // the front starts at P_r
 
-  blast::Charge charge;
-  charge.tnt_equivalent_kg = 10.0;
-  const blast::BlastPoint point = blast::blast_point(charge, 10.0);
-  const blast::PanelWave wave =
-      blast::panel_wave(point, 1.0, point.reflected_overpressure_pa, point.reflected_impulse_pa_s);
-  blast::PanelLoadOptions options;
-  options.clearing_distance_m = 0.45;
-  options.clearing_delay_s = blast::clearing_delay_s(charge, 10.0, 0.0, 0.45);  // head-on
+  const blast::BlastPoint point = window_blast_point();
   PaneLoad load;
   load.peak_pressure_pa = point.reflected_overpressure_pa;
-  load.history.components.push_back({0.0, blast::front_face_history(wave, options)});
+  load.history.components.push_back({0.0, window_front_face_by_hand()});
   // The cleared face carries less impulse than i_r: 3 S / U is about half of t_o here.
   ASSERT_LT(load.history.impulse_pa_s(0.0, 1.0), 0.9 * point.reflected_impulse_pa_s);
   const PaneSize size{1.2, 0.9, 0.006, 2500.0};
@@ -353,15 +368,7 @@ TEST(PaneCoupling, FragmentsLeaveWithThePlatesVelocityShape) {
   }
   EXPECT_GT(centre_speed, 1.5 * edge_speed) << centre_distance << " " << edge_margin;
 
-  blast::Charge charge;
-  charge.tnt_equivalent_kg = 10.0;
-  const blast::BlastPoint point = blast::blast_point(charge, 10.0);
-  const blast::PanelWave wave =
-      blast::panel_wave(point, 1.0, point.reflected_overpressure_pa, point.reflected_impulse_pa_s);
-  blast::PanelLoadOptions options;
-  options.clearing_distance_m = 0.45;
-  const double per_mass =
-      blast::front_face_history(wave, options).total_impulse_pa_s() / (2500.0 * 0.006);
+  const double per_mass = window_front_face_by_hand().total_impulse_pa_s() / (2500.0 * 0.006);
   // The fragments' panels lie up to 0.75 m off the axis: distance and incidence change their
   // impulse by about 1 %.
   EXPECT_NEAR(-momentum / mass / per_mass, 1.0, 0.03);

@@ -60,12 +60,12 @@ const words = (level: string) => level.replace("_", " ");
 // "Hazard rating").
 function glassInRoom(hazard: PaneFracture["hazard"]): string {
   if (hazard.fragments_in_room === 0) return "none";
-  const parts = [`${hazard.fragments_in_room}:`];
+  const parts: string[] = [];
   if (hazard.fragments_on_floor > 0)
     parts.push(`${hazard.fragments_on_floor} on the floor (furthest ${num(hazard.max_floor_distance_m, 3)} m)`);
   if (hazard.witness_impacts > 0)
     parts.push(`${hazard.witness_impacts} at the witness panel (highest ${num(hazard.max_witness_height_m, 3)} m)`);
-  return parts.join(" ");
+  return `${hazard.fragments_in_room}: ${parts.join("; ")}`;
 }
 
 // One column per breakable pane (docs/fracture.md): its load, the stress its breakage model

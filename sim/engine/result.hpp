@@ -127,6 +127,10 @@ struct PaneReport {
   // pane's centre at fracture::kTerminalCrackSpeed_m_s, and no fragment is free before the front
   // has passed all of its outline.
   double cracks_start_s = -1.0;
+  // Where they start, m, in the pane's own x and y from its lower-left corner: the largest
+  // bending stress of the simply supported plate under the peak pressures over its face
+  // (sim/fracture/nucleation); the centre for a uniform load. [0, 0] if unbroken.
+  std::array<double, 2> crack_origin_m{};
   std::uint64_t released = 0;
   // Per fragment, in body order: when it broke free (s), or a negative value if it never did
   // (held by the frame or the crack interlock; such fragments stay in place, static).

@@ -176,6 +176,7 @@ json pane_to_json(const engine::PaneReport& pane) {
               {"launch_speed_smaller_half_m_s", pane.launch_speed_smaller_half_m_s},
               {"launch_speed_mass_weighted_m_s", pane.launch_speed_mass_weighted_m_s},
               {"cracks_start_s", pane.cracks_start_s},
+              {"crack_origin_m", pane.crack_origin_m},
               {"released", pane.released},
               {"release_times_s", std::move(release_times)},
               {"release_time_s", distribution_to_json(pane.release_time_s)},

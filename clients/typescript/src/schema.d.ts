@@ -1116,8 +1116,13 @@ export interface components {
             launch_speed_smaller_half_m_s: number;
             /** @description The released fragments' launch speeds weighted by mass (their momentum over their mass); 0 if none was released. */
             launch_speed_mass_weighted_m_s: number;
-            /** @description When the pane's cracks start (its stress first reaches its strength), s after detonation; -1 if it did not break. They run out from its centre at the terminal crack speed of glass (1 500 m/s), and no fragment is free before the front has passed all of its outline. */
+            /** @description When the pane's cracks start (its stress first reaches its strength), s after detonation; -1 if it did not break. They run out from `crack_origin_m` at the terminal crack speed of glass (1 500 m/s), and no fragment is free before the front has passed all of its outline. */
             cracks_start_s: number;
+            /** @description Where the cracks start, m, in the pane's own x (width) and y (height) from its lower-left corner - the largest bending stress of the simply supported plate under the peak pressures over its face (Navier's series); the centre for a uniform load; [0, 0] if it did not break. */
+            crack_origin_m: [
+                number,
+                number
+            ];
             released: number;
             /** @description Per fragment, when it broke free (s), or null if it never did. */
             release_times_s: (number | null)[];

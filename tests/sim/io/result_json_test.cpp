@@ -100,6 +100,7 @@ engine::Result synthetic_result() {
   pane.launch_speed_larger_half_m_s = 3;
   pane.launch_speed_mass_weighted_m_s = 2.5;
   pane.cracks_start_s = 0.0125;
+  pane.crack_origin_m = {0.75, 0.5};
   pane.released = 1;
   pane.release_times_s = {0.0173, -1.0};
   pane.release_time_s = {.count = 1,
@@ -271,7 +272,7 @@ TEST(ResultJson, FractureHoldsEveryPaneField) {
   const json fracture = round_trip(synthetic_result())["fracture"];
   ASSERT_EQ(fracture.size(), 1u);
   const json& pane = fracture[0];
-  EXPECT_EQ(pane.size(), 26u) << pane.dump();
+  EXPECT_EQ(pane.size(), 27u) << pane.dump();
   EXPECT_EQ(pane["name"], "window/pane");
   EXPECT_EQ(pane["broken"], true);
   EXPECT_EQ(pane["forced"], false);
@@ -297,6 +298,7 @@ TEST(ResultJson, FractureHoldsEveryPaneField) {
   EXPECT_EQ(pane["launch_speed_larger_half_m_s"], 3.0);
   EXPECT_EQ(pane["launch_speed_mass_weighted_m_s"], 2.5);
   EXPECT_EQ(pane["cracks_start_s"], 0.0125);
+  EXPECT_EQ(pane["crack_origin_m"], json::array({0.75, 0.5}));
   EXPECT_EQ(pane["launch_speed_smaller_half_m_s"], 0.0);
   EXPECT_EQ(pane["released"], 1);
   // A fragment that never broke free is null.

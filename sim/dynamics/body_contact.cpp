@@ -11,33 +11,59 @@
 
 namespace brisance::dynamics {
 
+void ContactImpulses::seal() {
+  std::sort(entries_.begin(), entries_.end(), [](const Entry& x, const Entry& y) {
+    return x.key != y.key ? x.key < y.key : x.order < y.order;
+  });
+  // Of equal keys, the last added.
+  std::size_t out = 0;
+  for (std::size_t i = 0; i < entries_.size(); ++i) {
+    if (i + 1 < entries_.size() && entries_[i + 1].key == entries_[i].key) continue;
+    entries_[out++] = entries_[i];
+  }
+  entries_.resize(out);
+}
+
+const Vec3* ContactImpulses::find(std::uint64_t key) const {
+  const auto found =
+      std::lower_bound(entries_.begin(), entries_.end(), key,
+                       [](const Entry& entry, std::uint64_t k) { return entry.key < k; });
+  return found != entries_.end() && found->key == key ? &found->impulse : nullptr;
+}
+
 namespace {
 
 // The speed of b relative to a at the contact along direction k (0 normal, 1 u, 2 v).
-inline double relative_speed(const SolverBody& a, const SolverBody& b, const PairContact& c,
+inline double relative_speed(const SolverBody& a, const SolverBody& b, const ContactRow& r,
                              const Vec3& direction, int k) {
-  return direction.dot(b.velocity - a.velocity) + c.lever_b[k].dot(b.omega) -
-         c.lever_a[k].dot(a.omega);
+  return direction.dot(b.velocity - a.velocity) + r.lever_b[k].dot(b.omega) -
+         r.lever_a[k].dot(a.omega);
 }
 
 // An impulse j along direction k on b (and -j on a).
-inline void apply(SolverBody& a, SolverBody& b, const PairContact& c, const Vec3& direction, int k,
+inline void apply(SolverBody& a, SolverBody& b, const ContactRow& r, const Vec3& direction, int k,
                   double j) {
   a.velocity -= (j * a.inverse_mass) * direction;
-  a.omega -= j * c.spin_a[k];
+  a.omega -= j * r.spin_a[k];
   b.velocity += (j * b.inverse_mass) * direction;
-  b.omega += j * c.spin_b[k];
+  b.omega += j * r.spin_b[k];
 }
 
 }  // namespace
 
 int solve_pair_contacts(std::vector<SolverBody>& bodies, std::span<PairContact> contacts,
                         const ContactImpulses& last, ContactImpulses& next,
-                        const PairSolveSettings& settings) {
+                        const PairSolveSettings& settings, PairSolveBuffers& buffers) {
   const double dt = settings.dt_s;
-  // Prepare (the caller sets each contact's arms from the centres of mass).
-  std::vector<std::uint32_t> island;  // the moving bodies
-  for (PairContact& c : contacts) {
+  // Prepare (the caller sets each contact's arms from the centres of mass), straight into the
+  // rows the sweeps read.
+  std::vector<std::uint32_t>& island = buffers.island;  // the moving bodies
+  island.clear();
+  std::vector<ContactRow>& rows = buffers.rows;
+  rows.resize(contacts.size());
+  for (std::size_t i = 0; i < contacts.size(); ++i) {
+    PairContact& c = contacts[i];
+    ContactRow& r = rows[i];
     SolverBody& a = bodies[c.a];
     SolverBody& b = bodies[c.b];
     for (std::uint32_t x : {c.a, c.b})
@@ -48,25 +74,32 @@ int solve_pair_contacts(std::vector<SolverBody>& bodies, std::span<PairContact> 
     a.reach_m = std::max(a.reach_m, c.arm_a.norm());
     b.reach_m = std::max(b.reach_m, c.arm_b.norm());
     const Vec3& n = c.normal;
+    r.a = c.a;
+    r.b = c.b;
+    r.inverse_mass_a = a.inverse_mass;
+    r.inverse_mass_b = b.inverse_mass;
+    r.normal = n;
     // A tangent basis from the normal (any: friction is clamped on the disc, and the warm start
     // is kept as a world vector).
-    c.tangent_u = std::abs(n.x()) < 0.57 ? Vec3(Vec3::UnitX().cross(n).normalized())
-                                         : Vec3(Vec3::UnitY().cross(n).normalized());
-    c.tangent_v = n.cross(c.tangent_u);
-    const std::array<Vec3, 3> directions = {n, c.tangent_u, c.tangent_v};
+    r.u = std::abs(n.x()) < 0.57 ? Vec3(Vec3::UnitX().cross(n).normalized())
+                                 : Vec3(Vec3::UnitY().cross(n).normalized());
+    r.v = n.cross(r.u);
+    const std::array<Vec3, 3> directions = {n, r.u, r.v};
     std::array<double, 3> masses;
     for (int k = 0; k < 3; ++k) {
-      c.lever_a[k] = c.arm_a.cross(directions[k]);
-      c.lever_b[k] = c.arm_b.cross(directions[k]);
-      c.spin_a[k] = a.inverse_inertia * c.lever_a[k];
-      c.spin_b[k] = b.inverse_inertia * c.lever_b[k];
-      masses[k] = 1.0 / (a.inverse_mass + b.inverse_mass + c.lever_a[k].dot(c.spin_a[k]) +
-                         c.lever_b[k].dot(c.spin_b[k]));
+      r.lever_a[k] = c.arm_a.cross(directions[k]);
+      r.lever_b[k] = c.arm_b.cross(directions[k]);
+      r.spin_a[k] = a.inverse_inertia * r.lever_a[k];
+      r.spin_b[k] = b.inverse_inertia * r.lever_b[k];
+      masses[k] = 1.0 / (a.inverse_mass + b.inverse_mass + r.lever_a[k].dot(r.spin_a[k]) +
+                         r.lever_b[k].dot(r.spin_b[k]));
     }
-    c.mass_normal = masses[0];
-    c.mass_u = masses[1];
-    c.mass_v = masses[2];
-    const double approach = relative_speed(a, b, c, n, 0);
+    r.mass_normal = masses[0];
+    r.mass_u = masses[1];
+    r.mass_v = masses[2];
+    r.friction = c.friction;
+    r.normal_impulse = r.friction_u = r.friction_v = 0.0;
+    const double approach = relative_speed(a, b, r, n, 0);
     c.approach_before = approach;
     // Restitution on the approach speed before this step's gravity: a body resting on another
     // gains g dt towards it every step, which must not become a bounce however long the step
@@ -74,29 +107,32 @@ int solve_pair_contacts(std::vector<SolverBody>& bodies, std::span<PairContact> 
     const double impact = approach - c.gravity_speed_m_s;
     const double start_depth = c.depth_m + approach * dt;  // before this step's motion
     if (impact < -settings.bounce_threshold_m_s && c.depth_m >= 0.0)
-      c.target_speed = -c.restitution * impact;  // met within the step, fast: a bounce
+      r.target_speed = -c.restitution * impact;  // met within the step, fast: a bounce
     else
-      c.target_speed = std::min(start_depth, 0.0) / dt;  // a gap may close within the step
+      r.target_speed = std::min(start_depth, 0.0) / dt;  // a gap may close within the step
   }
   // Warm start.
-  for (PairContact& c : contacts) {
-    const auto found = last.find(c.key);
-    if (found == last.end()) continue;
-    const Vec3 j = settings.warm_start_scale * found->second;
-    c.normal_impulse = std::max(0.0, j.dot(c.normal));
-    double fu = j.dot(c.tangent_u), fv = j.dot(c.tangent_v);
-    const double limit = c.friction * c.normal_impulse;
+  for (std::size_t i = 0; i < contacts.size(); ++i) {
+    const Vec3* found = last.find(contacts[i].key);
+    if (!found) continue;
+    ContactRow& r = rows[i];
+    const Vec3 j = settings.warm_start_scale * *found;
+    r.normal_impulse = std::max(0.0, j.dot(r.normal));
+    double fu = j.dot(r.u), fv = j.dot(r.v);
+    const double limit = r.friction * r.normal_impulse;
     const double squared = fu * fu + fv * fv;
     if (squared > limit * limit) {
       const double scale = limit / std::sqrt(squared);
       fu *= scale;
       fv *= scale;
     }
-    c.friction_u = fu;
-    c.friction_v = fv;
-    apply(bodies[c.a], bodies[c.b], c, c.normal, 0, c.normal_impulse);
-    apply(bodies[c.a], bodies[c.b], c, c.tangent_u, 1, fu);
-    apply(bodies[c.a], bodies[c.b], c, c.tangent_v, 2, fv);
+    r.friction_u = fu;
+    r.friction_v = fv;
+    SolverBody& a = bodies[r.a];
+    SolverBody& b = bodies[r.b];
+    apply(a, b, r, r.normal, 0, r.normal_impulse);
+    apply(a, b, r, r.u, 1, fu);
+    apply(a, b, r, r.v, 2, fv);
   }
   // Sweeps, until one changes no body's velocity by more than the tolerance (at its farthest
   // contact point; PairSolveSettings). Judged on the bodies, not on each contact's impulse: where a
@@ -106,23 +142,6 @@ int solve_pair_contacts(std::vector<SolverBody>& bodies, std::span<PairContact> 
     bodies[x].swept_velocity = bodies[x].velocity;
     bodies[x].swept_omega = bodies[x].omega;
   }
-  // The sweeps read only what they need, packed per contact (the contacts themselves are four
-  // times larger), and keep both bodies' velocities in locals while a contact is solved.
-  struct Row {
-    std::uint32_t a, b;
-    double inverse_mass_a, inverse_mass_b;
-    Vec3 normal, u, v;
-    std::array<Vec3, 3> lever_a, lever_b, spin_a, spin_b;
-    double mass_normal, mass_u, mass_v, target_speed, friction;
-    double normal_impulse, friction_u, friction_v;
-  };
-  std::vector<Row> rows;
-  rows.reserve(contacts.size());
-  for (const PairContact& c : contacts)
-    rows.push_back(Row{c.a, c.b, bodies[c.a].inverse_mass, bodies[c.b].inverse_mass, c.normal,
-                       c.tangent_u, c.tangent_v, c.lever_a, c.lever_b, c.spin_a, c.spin_b,
-                       c.mass_normal, c.mass_u, c.mass_v, c.target_speed, c.friction,
-                       c.normal_impulse, c.friction_u, c.friction_v});
   double slowest = INFINITY;
   for (std::uint32_t x : island)
     slowest =
@@ -131,7 +150,7 @@ int solve_pair_contacts(std::vector<SolverBody>& bodies, std::span<PairContact> 
   int sweeps = 0;
   while (sweeps < settings.iterations) {
     ++sweeps;
-    for (Row& r : rows) {
+    for (ContactRow& r : rows) {
       SolverBody& a = bodies[r.a];
       SolverBody& b = bodies[r.b];
       Vec3 va = a.velocity, wa = a.omega, vb = b.velocity, wb = b.omega;
@@ -176,19 +195,18 @@ int solve_pair_contacts(std::vector<SolverBody>& bodies, std::span<PairContact> 
     if (largest < converged) break;
   }
   for (std::size_t i = 0; i < rows.size(); ++i) {
-    contacts[i].normal_impulse = rows[i].normal_impulse;
-    contacts[i].friction_u = rows[i].friction_u;
-    contacts[i].friction_v = rows[i].friction_v;
+    const ContactRow& r = rows[i];
+    contacts[i].normal_impulse = r.normal_impulse;
+    next.add(contacts[i].key,
+             r.normal_impulse * r.normal + r.friction_u * r.u + r.friction_v * r.v);
   }
-  for (const PairContact& c : contacts)
-    next[c.key] =
-        c.normal_impulse * c.normal + c.friction_u * c.tangent_u + c.friction_v * c.tangent_v;
   // Positions: the depth each contact has once the caller moves the bodies by their velocity
   // change over the step, then a few passes of shifts along the normals of the penetration
   // beyond the slop, in proportion to the inverse masses, each contact's depth corrected by the
   // shifts so far. Shifts move no velocity: they add no energy.
-  for (PairContact& c : contacts) {
-    const double speed = relative_speed(bodies[c.a], bodies[c.b], c, c.normal, 0);
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    PairContact& c = contacts[i];
+    const double speed = relative_speed(bodies[c.a], bodies[c.b], rows[i], c.normal, 0);
     c.depth_after_m = c.depth_m - (speed - c.approach_before) * dt;
   }
   for (int pass = 0; pass < 3; ++pass) {

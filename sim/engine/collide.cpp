@@ -193,9 +193,14 @@ void Run::collide(double dt) {
   result_.stats.collision_pairs += pairs.size();
 
   // Narrowphase. An asleep body met by a moving one wakes up.
-  std::vector<std::int32_t> solver_index(n, -1);
-  std::vector<dynamics::SolverBody> solver(1);  // 0: every static partner
-  std::vector<std::uint32_t> solver_body(1, 0);
+  // (The step's buffers live in the state, to spare their allocations; solver_index is left
+  // all -1 at the end of the step.)
+  std::vector<std::int32_t>& solver_index = state_.solver_index;
+  solver_index.resize(n, -1);
+  std::vector<dynamics::SolverBody>& solver = state_.solver;
+  solver.assign(1, dynamics::SolverBody{});  // 0: every static partner
+  std::vector<std::uint32_t>& solver_body = state_.solver_body;
+  solver_body.assign(1, 0);
   auto dynamic_index = [&](std::uint32_t b) -> std::uint32_t {
     if (state_.motion[b] != Motion::awake) return 0;
     if (solver_index[b] < 0) {
@@ -251,7 +256,8 @@ void Run::collide(double dt) {
       const Vec3 apart = state_.bodies[b].position - state_.bodies[a].position;
       const Vec3 closing = state_.bodies[b].velocity - state_.bodies[a].velocity;
       if (closing.dot(apart) > 0.01 * apart.norm() &&
-          !state_.touching_pairs.count(contact_key(a, b, 0))) {
+          !std::binary_search(state_.touching_pairs.begin(), state_.touching_pairs.end(),
+                              contact_key(a, b, 0))) {
         ++result_.stats.collision_pairs_skipped;
         continue;
       }
@@ -260,6 +266,7 @@ void Run::collide(double dt) {
     const auto& pa = state_.placed[a];
     const auto& pb = state_.placed[b];
     const std::size_t first = contacts.size();
+    bool pressed = false;
     for (std::size_t i = 0; i < pa.size(); ++i)
       for (std::size_t j = 0; j < pb.size(); ++j) {
         const std::uint32_t base = static_cast<std::uint32_t>((i * pb.size() + j) << 8);
@@ -286,10 +293,12 @@ void Run::collide(double dt) {
           const bool b_held = state_.motion[b] == Motion::held;
           contact_held.push_back(a_held ? a : b_held ? b : static_cast<std::uint32_t>(n));
           if (p.depth_m > -1e-3) state_.touching_body[a] = state_.touching_body[b] = 1;
-          if (p.depth_m > 1e-4) state_.next_touching_pairs.insert(contact_key(a, b, 0));
+          if (p.depth_m > 1e-4) pressed = true;
         }
       }
     reduce_pair_contacts(contacts, contact_held, first);
+    // (Pairs come in sorted order: the list stays sorted.)
+    if (pressed) state_.next_touching_pairs.push_back(contact_key(a, b, 0));
   }
   // Bodies whose ground contact was left to this solve join it even if they met no body.
   for (std::uint32_t b = 0; b < n; ++b)
@@ -347,34 +356,29 @@ void Run::collide(double dt) {
       if (ra != rb) parent[std::max(ra, rb)] = std::min(ra, rb);
     }
     // By island, then bottom up within it, so a stack's weight is passed down within a sweep.
-    std::vector<std::uint32_t> island(contacts.size());
+    std::vector<std::uint32_t>& island = state_.contact_island;
+    island.resize(contacts.size());
     for (std::size_t i = 0; i < contacts.size(); ++i)
       island[i] = root(contacts[i].a != 0 ? contacts[i].a : contacts[i].b);
     // (Sorted on packed keys: the comparisons then read no contact.)
-    struct Order {
-      std::uint32_t island;
-      double height;
-      std::uint64_t key;
-      std::size_t index;
-    };
-    std::vector<Order> order_keys(contacts.size());
+    auto& order_keys = state_.contact_order;
+    order_keys.resize(contacts.size());
     for (std::size_t i = 0; i < contacts.size(); ++i)
-      order_keys[i] = Order{island[i], contacts[i].point.y(), contacts[i].key, i};
-    std::sort(order_keys.begin(), order_keys.end(), [](const Order& x, const Order& y) {
-      if (x.island != y.island) return x.island < y.island;
-      if (x.height != y.height) return x.height < y.height;
-      return x.key < y.key;
-    });
-    std::vector<std::size_t> by_height(contacts.size());
-    for (std::size_t i = 0; i < contacts.size(); ++i)
-      by_height[i] = order_keys[i].index;
+      order_keys[i] = ContactOrder{island[i], contacts[i].point.y(), contacts[i].key,
+                                   static_cast<std::uint32_t>(i)};
+    std::sort(order_keys.begin(), order_keys.end(),
+              [](const ContactOrder& x, const ContactOrder& y) {
+                if (x.island != y.island) return x.island < y.island;
+                if (x.height != y.height) return x.height < y.height;
+                return x.key < y.key;
+              });
     auto& sorted = state_.sorted_contacts;
     auto& sorted_held = state_.sorted_held;
     sorted.clear();
     sorted_held.clear();
-    for (std::size_t i : by_height) {
-      sorted.push_back(contacts[i]);
-      sorted_held.push_back(contact_held[i]);
+    for (const ContactOrder& o : order_keys) {
+      sorted.push_back(contacts[o.index]);
+      sorted_held.push_back(contact_held[o.index]);
     }
     result_.stats.contact_points += sorted.size();
     dynamics::PairSolveSettings settings;
@@ -384,17 +388,19 @@ void Run::collide(double dt) {
     if (state_.contact_impulses_dt_s > 0.0)
       settings.warm_start_scale = std::min(dt / state_.contact_impulses_dt_s, 2.0);
     state_.contact_impulses_dt_s = dt;
-    const std::vector<dynamics::SolverBody> before = solver;
+    std::vector<dynamics::SolverBody>& before = state_.solver_before;
+    before = solver;
     state_.next_contact_impulses.clear();
     for (std::size_t first = 0; first < sorted.size();) {
       std::size_t last = first + 1;
-      while (last < sorted.size() && island[by_height[last]] == island[by_height[first]])
+      while (last < sorted.size() && order_keys[last].island == order_keys[first].island)
         ++last;
       dynamics::solve_pair_contacts(
           solver, std::span<dynamics::PairContact>(sorted.data() + first, last - first),
-          state_.contact_impulses, state_.next_contact_impulses, settings);
+          state_.contact_impulses, state_.next_contact_impulses, settings, state_.solve_buffers);
       first = last;
     }
+    state_.next_contact_impulses.seal();
     std::swap(state_.contact_impulses, state_.next_contact_impulses);
     // The step's motion redone with the solved velocities (body_contact.hpp): each body moves
     // and turns by its change of velocity over the step, then out of what penetration is left.
@@ -415,7 +421,8 @@ void Run::collide(double dt) {
       }
     }
     // A held body pushed harder than its hold breaks free.
-    std::vector<double> pushed;
+    std::vector<double>& pushed = state_.pushed;
+    pushed.clear();
     for (std::size_t i = 0; i < sorted.size(); ++i) {
       const std::uint32_t held = sorted_held[i];
       if (held == n) continue;
@@ -426,6 +433,8 @@ void Run::collide(double dt) {
       if (pushed[b] > model_.hold_force_n[b] * dt && state_.motion[b] == Motion::held)
         state_.motion[b] = Motion::awake;
   }
+  for (std::size_t s = 1; s < solver_body.size(); ++s)
+    solver_index[solver_body[s]] = -1;
 
   std::swap(state_.touching_pairs, state_.next_touching_pairs);
 

@@ -26,6 +26,15 @@ struct ActiveLoad {
   blast::PressureHistory history;  // net translatory pressure, Pa, time since arrival
 };
 
+// A contact's place in the solve: by island, then bottom up (collide.cpp); sorted on these
+// packed keys, the comparisons read no contact.
+struct ContactOrder {
+  std::uint32_t island;
+  double height;  // of the point, m
+  std::uint64_t key;
+  std::uint32_t index;
+};
+
 // Everything that changes while stepping; per body in body order unless said otherwise.
 struct RunState {
   std::vector<dynamics::BodyState> bodies;
@@ -86,9 +95,17 @@ struct RunState {
   std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;
   std::vector<double> margin;
   std::vector<std::uint32_t> island_parent;  // union-find over the solve's bodies
+  std::vector<std::int32_t> solver_index;    // per body: its solver body, or -1
+  std::vector<dynamics::SolverBody> solver, solver_before;
+  std::vector<std::uint32_t> solver_body;  // per solver body: the body
+  std::vector<std::uint32_t> contact_island;
+  std::vector<ContactOrder> contact_order;
+  std::vector<double> pushed;
+  dynamics::PairSolveBuffers solve_buffers;
   // `auto`: pairs of a fragment and an anchored body (its frame) meeting at the start.
   std::unordered_set<std::uint64_t> start_neighbours;
-  std::unordered_set<std::uint64_t> touching_pairs, next_touching_pairs;  // contact_key(a, b, 0)
+  // Pairs pressed together (contact_key(a, b, 0)), sorted: last step's and this step's.
+  std::vector<std::uint64_t> touching_pairs, next_touching_pairs;
   // Step-size limits gathered while integrating, used for the next step.
   double max_angular_speed_rad_s = 0.0;
   double min_contact_time_s = INFINITY;

@@ -11,24 +11,35 @@
 
 namespace brisance::dynamics {
 
+namespace {
+
+inline std::size_t slot_of(std::uint64_t key, std::size_t mask) {
+  return static_cast<std::size_t>((key * 0x9E3779B97F4A7C15ull) >> 32) & mask;
+}
+
+}  // namespace
+
 void ContactImpulses::seal() {
-  std::sort(entries_.begin(), entries_.end(), [](const Entry& x, const Entry& y) {
-    return x.key != y.key ? x.key < y.key : x.order < y.order;
-  });
-  // Of equal keys, the last added.
-  std::size_t out = 0;
+  std::size_t size = 16;
+  while (size < 2 * entries_.size())
+    size *= 2;
+  slots_.assign(size, 0);
+  const std::size_t mask = size - 1;
   for (std::size_t i = 0; i < entries_.size(); ++i) {
-    if (i + 1 < entries_.size() && entries_[i + 1].key == entries_[i].key) continue;
-    entries_[out++] = entries_[i];
+    std::size_t slot = slot_of(entries_[i].key, mask);
+    // Linear probing; a key added again takes over its slot (the last added is kept).
+    while (slots_[slot] != 0 && entries_[slots_[slot] - 1].key != entries_[i].key)
+      slot = (slot + 1) & mask;
+    slots_[slot] = static_cast<std::uint32_t>(i + 1);
   }
-  entries_.resize(out);
 }
 
 const Vec3* ContactImpulses::find(std::uint64_t key) const {
-  const auto found =
-      std::lower_bound(entries_.begin(), entries_.end(), key,
-                       [](const Entry& entry, std::uint64_t k) { return entry.key < k; });
-  return found != entries_.end() && found->key == key ? &found->impulse : nullptr;
+  if (slots_.empty()) return nullptr;
+  const std::size_t mask = slots_.size() - 1;
+  for (std::size_t slot = slot_of(key, mask); slots_[slot] != 0; slot = (slot + 1) & mask)
+    if (entries_[slots_[slot] - 1].key == key) return &entries_[slots_[slot] - 1].impulse;
+  return nullptr;
 }
 
 namespace {
@@ -163,17 +174,22 @@ int solve_pair_contacts(std::vector<SolverBody>& bodies, std::span<PairContact> 
       wa -= dn * r.spin_a[0];
       vb += (dn * r.inverse_mass_b) * r.normal;
       wb += dn * r.spin_b[0];
-      const Vec3 slide = vb - va;
-      double fu =
-          r.friction_u - (r.u.dot(slide) + r.lever_b[1].dot(wb) - r.lever_a[1].dot(wa)) * r.mass_u;
-      double fv =
-          r.friction_v - (r.v.dot(slide) + r.lever_b[2].dot(wb) - r.lever_a[2].dot(wa)) * r.mass_v;
+      // Friction on the disc of the normal impulse (none without one: a gap, or a contact
+      // pulled apart, which is most speculative contacts; skipped, it spares the clamp's root).
       const double limit = r.friction * r.normal_impulse;
-      const double squared = fu * fu + fv * fv;
-      if (squared > limit * limit) {
-        const double scale = limit / std::sqrt(squared);
-        fu *= scale;
-        fv *= scale;
+      double fu = 0.0, fv = 0.0;
+      if (limit > 0.0) {
+        const Vec3 slide = vb - va;
+        fu = r.friction_u -
+             (r.u.dot(slide) + r.lever_b[1].dot(wb) - r.lever_a[1].dot(wa)) * r.mass_u;
+        fv = r.friction_v -
+             (r.v.dot(slide) + r.lever_b[2].dot(wb) - r.lever_a[2].dot(wa)) * r.mass_v;
+        const double squared = fu * fu + fv * fv;
+        if (squared > limit * limit) {
+          const double scale = limit / std::sqrt(squared);
+          fu *= scale;
+          fv *= scale;
+        }
       }
       const double du = fu - r.friction_u, dv = fv - r.friction_v;
       r.friction_u = fu;

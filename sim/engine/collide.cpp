@@ -26,6 +26,14 @@ using dynamics::Mat3;
 
 constexpr double kContactMargin_m = 2e-3;  // speculative distance added to each body's motion
 constexpr std::uint64_t kGroundId = 0xFFFFFF;
+// A pair's narrowphase is found with this multiple of its margin and kept while the pair's
+// relative motion stays within the difference and within kCacheMove_m (PairCache). Chosen on
+// the Stability and Contacts tests: 1.5 and 1 mm, or 2 and 2 mm, let the ten-brick towers
+// drift (their kept points are the corners of a face overlap, which do not move with either
+// brick); 1.25 and 0.1 mm pass all, and skip the narrowphase of 56 % of the pairs on the
+// brick wall (65 % on the 16 walls).
+constexpr double kCacheMargin = 1.25;
+constexpr double kCacheMove_m = 1e-4;
 
 std::uint64_t contact_key(std::uint64_t a, std::uint64_t b, std::uint32_t feature) {
   return (a << 40) | (b << 16) | (feature & 0xFFFFu);
@@ -230,6 +238,9 @@ void Run::collide(double dt) {
   contacts.clear();
   contact_held.clear();
   dynamics::Manifold manifold;
+  state_.next_pair_cache.clear();
+  state_.next_cached_points.clear();
+  std::size_t cache_cursor = 0;
   for (const auto& [a, b] : pairs) {
     for (std::uint32_t x : {a, b}) {
       const std::uint32_t other = x == a ? b : a;
@@ -263,43 +274,97 @@ void Run::collide(double dt) {
       }
     }
     const double pair_margin = margin[a] + margin[b];
-    const auto& pa = state_.placed[a];
-    const auto& pb = state_.placed[b];
+    const dynamics::BodyState& sa = state_.bodies[a];
+    const dynamics::BodyState& sb = state_.bodies[b];
+    const Mat3 ra = sa.orientation.toRotationMatrix();
+    const Mat3 rb = sb.orientation.toRotationMatrix();
+    const Vec3 relative_position = ra.transpose() * (sb.position - sa.position);
+    const dynamics::Quat relative_turn = sa.orientation.conjugate() * sb.orientation;
+    // The narrowphase found last step is kept while b has moved in a's frame by less than the
+    // margin it was found with beyond this step's (kCacheMargin): every point now within this
+    // step's margin was within that one. Its points move with the bodies (each is kept on both
+    // surfaces), so their depths follow the bodies' motion; the narrowphase runs again
+    // once they have moved farther, or turned.
+    const std::uint64_t pair_key = contact_key(a, b, 0);
+    const auto& cache = state_.pair_cache;
+    while (cache_cursor < cache.size() && cache[cache_cursor].key < pair_key)
+      ++cache_cursor;
+    bool reuse = false;
+    if (cache_cursor < cache.size() && cache[cache_cursor].key == pair_key) {
+      const PairCache& kept = cache[cache_cursor];
+      const double half_turn = (kept.relative_turn.conjugate() * relative_turn).vec().norm();
+      const double moved =
+          (relative_position - kept.relative_position).norm() +
+          2.0 * std::asin(std::min(half_turn, 1.0)) * model_.bodies[b].bounding_radius_m;
+      reuse = moved + pair_margin <= kept.margin_m && moved <= kCacheMove_m;
+    }
+    auto& points = state_.next_cached_points;
+    const std::uint32_t points_first = static_cast<std::uint32_t>(points.size());
+    if (reuse) {
+      const PairCache& kept = cache[cache_cursor];
+      points.insert(points.end(), state_.cached_points.begin() + kept.first,
+                    state_.cached_points.begin() + kept.first + kept.count);
+      state_.next_pair_cache.push_back(kept);
+      state_.next_pair_cache.back().first = points_first;
+    } else {
+      const double found_margin = kCacheMargin * pair_margin;
+      const auto& pa = state_.placed[a];
+      const auto& pb = state_.placed[b];
+      for (std::size_t i = 0; i < pa.size(); ++i)
+        for (std::size_t j = 0; j < pb.size(); ++j) {
+          const std::uint32_t base = static_cast<std::uint32_t>((i * pb.size() + j) << 8);
+          if (!dynamics::collide(pa[i], pb[j], found_margin, base, manifold, true, pair_margin))
+            continue;
+          const Vec3 normal_a = ra.transpose() * manifold.normal;
+          for (const dynamics::ContactPoint& p : manifold.points) {
+            const Vec3 half = (0.5 * p.depth_m) * manifold.normal;
+            points.push_back(CachedPoint{ra.transpose() * (p.point + half - sa.position),
+                                         rb.transpose() * (p.point - half - sb.position), normal_a,
+                                         p.feature});
+          }
+        }
+      state_.next_pair_cache.push_back(
+          PairCache{pair_key, relative_position, relative_turn, found_margin, points_first,
+                    static_cast<std::uint32_t>(points.size()) - points_first});
+    }
+    // The contacts: the kept points where the bodies are now, those within the margin.
     const std::size_t first = contacts.size();
     bool pressed = false;
-    for (std::size_t i = 0; i < pa.size(); ++i)
-      for (std::size_t j = 0; j < pb.size(); ++j) {
-        const std::uint32_t base = static_cast<std::uint32_t>((i * pb.size() + j) << 8);
-        if (!dynamics::collide(pa[i], pb[j], pair_margin, base, manifold)) continue;
-        const std::uint32_t ia = dynamic_index(a), ib = dynamic_index(b);
-        const double mu = std::sqrt(model_.friction[a] * model_.friction[b]);
-        const double gravity_speed =
-            gravity_step.dot(manifold.normal) * ((ib != 0 ? 1.0 : 0.0) - (ia != 0 ? 1.0 : 0.0));
-        for (const dynamics::ContactPoint& p : manifold.points) {
-          dynamics::PairContact c;
-          c.a = ia;
-          c.b = ib;
-          c.point = p.point;
-          c.normal = manifold.normal;
-          c.depth_m = p.depth_m;
-          c.friction = mu;
-          c.restitution = restitution;
-          c.gravity_speed_m_s = gravity_speed;
-          c.key = contact_key(a, b, p.feature);
-          c.arm_a = ia != 0 ? Vec3(p.point - state_.bodies[a].position) : Vec3::Zero();
-          c.arm_b = ib != 0 ? Vec3(p.point - state_.bodies[b].position) : Vec3::Zero();
-          contacts.push_back(c);
-          const bool a_held = state_.motion[a] == Motion::held;
-          const bool b_held = state_.motion[b] == Motion::held;
-          contact_held.push_back(a_held ? a : b_held ? b : static_cast<std::uint32_t>(n));
-          if (p.depth_m > -1e-3) state_.touching_body[a] = state_.touching_body[b] = 1;
-          if (p.depth_m > 1e-4) pressed = true;
-        }
-      }
+    for (std::size_t k = points_first; k < points.size(); ++k) {
+      const CachedPoint& kept = points[k];
+      const Vec3 on_a = sa.position + ra * kept.on_a;
+      const Vec3 on_b = sb.position + rb * kept.on_b;
+      const Vec3 normal = ra * kept.normal_a;
+      const double depth = (on_a - on_b).dot(normal);
+      if (depth < -pair_margin) continue;
+      const Vec3 point = 0.5 * (on_a + on_b);
+      const std::uint32_t ia = dynamic_index(a), ib = dynamic_index(b);
+      dynamics::PairContact c;
+      c.a = ia;
+      c.b = ib;
+      c.point = point;
+      c.normal = normal;
+      c.depth_m = depth;
+      c.friction = std::sqrt(model_.friction[a] * model_.friction[b]);
+      c.restitution = restitution;
+      c.gravity_speed_m_s =
+          gravity_step.dot(normal) * ((ib != 0 ? 1.0 : 0.0) - (ia != 0 ? 1.0 : 0.0));
+      c.key = contact_key(a, b, kept.feature);
+      c.arm_a = ia != 0 ? Vec3(point - sa.position) : Vec3::Zero();
+      c.arm_b = ib != 0 ? Vec3(point - sb.position) : Vec3::Zero();
+      contacts.push_back(c);
+      const bool a_held = state_.motion[a] == Motion::held;
+      const bool b_held = state_.motion[b] == Motion::held;
+      contact_held.push_back(a_held ? a : b_held ? b : static_cast<std::uint32_t>(n));
+      if (depth > -1e-3) state_.touching_body[a] = state_.touching_body[b] = 1;
+      if (depth > 1e-4) pressed = true;
+    }
     reduce_pair_contacts(contacts, contact_held, first);
     // (Pairs come in sorted order: the list stays sorted.)
     if (pressed) state_.next_touching_pairs.push_back(contact_key(a, b, 0));
   }
+  std::swap(state_.pair_cache, state_.next_pair_cache);
+  std::swap(state_.cached_points, state_.next_cached_points);
   // Bodies whose ground contact was left to this solve join it even if they met no body.
   for (std::uint32_t b = 0; b < n; ++b)
     if (state_.ground_with_bodies[b] && state_.motion[b] == Motion::awake) dynamic_index(b);

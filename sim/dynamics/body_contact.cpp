@@ -195,10 +195,18 @@ int solve_pair_contacts(std::vector<SolverBody>& bodies, std::span<PairContact> 
       r.friction_u = fu;
       r.friction_v = fv;
       const Vec3 push = du * r.u + dv * r.v;
-      a.velocity = va - r.inverse_mass_a * push;
-      a.omega = wa - du * r.spin_a[1] - dv * r.spin_a[2];
-      b.velocity = vb + r.inverse_mass_b * push;
-      b.omega = wb + du * r.spin_b[1] + dv * r.spin_b[2];
+      // Nothing is written to a static partner (zero inverse mass and inertia: its velocities
+      // do not change). The engine's static partners are all one solver body: a store there
+      // chained every contact with a static partner to the one before it through memory, and
+      // the sweep's contacts could not overlap in the processor.
+      if (r.inverse_mass_a > 0.0) {
+        a.velocity = va - r.inverse_mass_a * push;
+        a.omega = wa - du * r.spin_a[1] - dv * r.spin_a[2];
+      }
+      if (r.inverse_mass_b > 0.0) {
+        b.velocity = vb + r.inverse_mass_b * push;
+        b.omega = wb + du * r.spin_b[1] + dv * r.spin_b[2];
+      }
     }
     double largest = 0.0;
     for (std::uint32_t x : island) {

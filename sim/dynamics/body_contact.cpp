@@ -97,11 +97,13 @@ int solve_pair_contacts(std::vector<SolverBody>& bodies, std::span<PairContact> 
     r.v = n.cross(r.u);
     const std::array<Vec3, 3> directions = {n, r.u, r.v};
     std::array<double, 3> masses;
+    // (A static partner's arm, levers and spins are zero: not multiplied out.)
+    const bool a_moves = a.inverse_mass > 0.0, b_moves = b.inverse_mass > 0.0;
     for (int k = 0; k < 3; ++k) {
-      r.lever_a[k] = c.arm_a.cross(directions[k]);
-      r.lever_b[k] = c.arm_b.cross(directions[k]);
-      r.spin_a[k] = a.inverse_inertia * r.lever_a[k];
-      r.spin_b[k] = b.inverse_inertia * r.lever_b[k];
+      r.lever_a[k] = a_moves ? Vec3(c.arm_a.cross(directions[k])) : Vec3::Zero();
+      r.lever_b[k] = b_moves ? Vec3(c.arm_b.cross(directions[k])) : Vec3::Zero();
+      r.spin_a[k] = a_moves ? Vec3(a.inverse_inertia * r.lever_a[k]) : Vec3::Zero();
+      r.spin_b[k] = b_moves ? Vec3(b.inverse_inertia * r.lever_b[k]) : Vec3::Zero();
       masses[k] = 1.0 / (a.inverse_mass + b.inverse_mass + r.lever_a[k].dot(r.spin_a[k]) +
                          r.lever_b[k].dot(r.spin_b[k]));
     }

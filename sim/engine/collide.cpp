@@ -4,7 +4,8 @@
 //   place          convex pieces to world frame (static bodies only when they have moved)
 //   broadphase     sort and sweep along x on world boxes grown by each body's motion in the step;
 //                  the order is kept from step to step, so the insertion sort is near linear
-//   narrowphase    separating axes between convex pieces (dynamics/convex.hpp)
+//   narrowphase    separating axes between convex pieces (dynamics/convex.hpp), kept from step
+//                  to step while a pair's relative pose barely changes (PairCache)
 //   solve          dynamics/body_contact.hpp, with static partners (ground, anchored, held,
 //                  asleep) of zero inverse mass
 //   holds          a held body pushed harder than its hold, or whose supports have all gone,

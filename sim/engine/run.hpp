@@ -6,7 +6,6 @@
 
 #include <cmath>
 #include <cstdint>
-#include <unordered_set>
 #include <vector>
 
 #include "sim/blast/panel_load.hpp"
@@ -96,11 +95,18 @@ struct RunState {
   std::vector<std::vector<dynamics::PlacedPiece>> placed;
   std::vector<dynamics::BodyState> placed_state;  // the state each body was placed at
   std::vector<std::uint8_t> placed_valid;
-  std::vector<Vec3> box_min, box_max;  // world boxes, grown by the step's motion
+  std::vector<Vec3> box_min, box_max;  // world boxes of the shapes (not grown by any margin)
+  // Each shape's box in its body's frame (centre and half sizes, from the centre of mass, m),
+  // and the pose each body's world box was found at.
+  std::vector<Vec3> shape_box_centre, shape_box_half;
+  std::vector<Vec3> boxed_position;
+  std::vector<dynamics::Quat> boxed_orientation;
+  std::vector<std::uint8_t> boxed_valid;
   std::vector<std::uint32_t> sweep_order;
   dynamics::ContactImpulses contact_impulses, next_contact_impulses;
   double contact_impulses_dt_s = 0.0;  // the step contact_impulses were solved in
   std::vector<std::uint8_t> touching_body;
+  std::vector<std::uint8_t> touched_body;  // touching_body of the step before, in collide
   // The bodies integrated this step and whether each touched the ground: with contacts between
   // bodies, sleeping is judged after them (sleep_after_contacts).
   std::vector<std::uint32_t> stepped;
@@ -110,7 +116,8 @@ struct RunState {
   std::vector<dynamics::PairContact> pair_contacts, sorted_contacts;
   std::vector<std::uint32_t> contact_held, sorted_held;
   std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;
-  std::vector<double> margin;
+  std::vector<double> margin;                // per body: the step's motion plus kContactMargin_m, m
+  std::vector<double> spin_margin;           // per body: how far its turning moves its surface, m
   std::vector<std::uint32_t> island_parent;  // union-find over the solve's bodies
   std::vector<std::int32_t> solver_index;    // per body: its solver body, or -1
   std::vector<dynamics::SolverBody> solver, solver_before;
@@ -122,8 +129,9 @@ struct RunState {
   // Last step's and this step's narrowphase by pair, sorted by key (pairs come sorted).
   std::vector<PairCache> pair_cache, next_pair_cache;
   std::vector<CachedPoint> cached_points, next_cached_points;
-  // `auto`: pairs of a fragment and an anchored body (its frame) meeting at the start.
-  std::unordered_set<std::uint64_t> start_neighbours;
+  // `auto`: pairs of pieces of a pane (two fragments, or a fragment and an anchored body: its
+  // frame) whose boxes meet at the start and have not been apart since, sorted.
+  std::vector<std::uint64_t> joined_pairs;
   // Pairs pressed together (contact_key(a, b, 0)), sorted: last step's and this step's.
   std::vector<std::uint64_t> touching_pairs, next_touching_pairs;
   // Step-size limits gathered while integrating, used for the next step.
@@ -158,6 +166,8 @@ class Run {
   Vec3 air_velocity(std::uint32_t b, double t);
   void collide(double dt);  // contacts between bodies (collide.cpp)
   void init_collisions();
+  void part_joined_pairs();
+  void place_body(std::uint32_t b);
   void sleep_after_contacts(double dt);
 
   void activate(const PanelEvent& event);

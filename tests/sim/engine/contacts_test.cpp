@@ -1,11 +1,16 @@
 // Contacts between bodies (issue 13): a dropped box lands on another, the example wall ends
 // without bricks inside each other, and reruns are bit-identical.
 #include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <sstream>
 
 #include <gtest/gtest.h>
 
 #include "sim/dynamics/convex.hpp"
 #include "sim/engine/simulator.hpp"
+#include "sim/geometry/mesh.hpp"
+#include "sim/scene/scene.hpp"
 #include "tests/sim/engine/scene_builder.hpp"
 
 namespace brisance::engine {
@@ -43,6 +48,102 @@ double deepest_overlap(const Result& r) {
           if (dynamics::collide(pa, pb, 0.0, 0, manifold))
             for (const auto& point : manifold.points)
               deepest = std::max(deepest, point.depth_m);
+  return deepest;
+}
+
+// The pieces a body's mesh is measured with: a prism (a pane's fragment: every vertex on one of
+// two planes across its first triangle's normal) as one triangular prism per triangle of its
+// cap, so that a concave outline is measured as itself, not as its hull; any other mesh as its
+// collision shape (convex for boxes).
+std::vector<dynamics::ConvexPiece> measured_pieces(const geometry::TriangleMesh& mesh) {
+  const auto& first = mesh.triangles.front();
+  const auto& v = mesh.vertices;
+  const Vector3d axis = (v[first[1]] - v[first[0]]).cross(v[first[2]] - v[first[0]]).normalized();
+  const double top = axis.dot(v[first[0]]);
+  double bottom = top;
+  bool prism = true;
+  for (const Vector3d& p : v) {
+    const double h = axis.dot(p);
+    if (std::abs(h - top) < 1e-9) continue;
+    if (bottom == top) bottom = h;
+    if (std::abs(h - bottom) > 1e-9) prism = false;
+  }
+  if (!prism || bottom == top) return dynamics::collision_shape(mesh, Vector3d::Zero()).pieces;
+  std::vector<dynamics::ConvexPiece> pieces;
+  for (const auto& t : mesh.triangles) {
+    if (std::abs(axis.dot(v[t[0]]) - top) > 1e-9 || std::abs(axis.dot(v[t[1]]) - top) > 1e-9 ||
+        std::abs(axis.dot(v[t[2]]) - top) > 1e-9)
+      continue;
+    geometry::TriangleMesh wedge;
+    for (int k = 0; k < 3; ++k)
+      wedge.vertices.push_back(v[t[k]]);
+    for (int k = 0; k < 3; ++k)
+      wedge.vertices.push_back(v[t[k]] + (bottom - top) * axis);
+    wedge.triangles = {{0, 1, 2}, {3, 5, 4}, {0, 3, 1}, {1, 3, 4},
+                       {1, 4, 2}, {2, 4, 5}, {2, 5, 0}, {0, 5, 3}};
+    for (auto& piece : dynamics::collision_shape(wedge, Vector3d::Zero()).pieces)
+      pieces.push_back(std::move(piece));
+  }
+  return pieces;
+}
+
+// How far two convex pieces would have to move apart to stop overlapping, m (0 if they do not):
+// the least overlap of their projections over every separating axis (face normals of both,
+// cross products of their edge directions), which for convex pieces is that distance.
+double penetration(const dynamics::PlacedPiece& a, const dynamics::PlacedPiece& b) {
+  if ((a.min.array() > b.max.array()).any() || (b.min.array() > a.max.array()).any()) return 0.0;
+  double least = INFINITY;
+  auto along = [&](const Vector3d& axis) {
+    double a_low = INFINITY, a_high = -INFINITY, b_low = INFINITY, b_high = -INFINITY;
+    for (const Vector3d& v : a.vertices) {
+      a_low = std::min(a_low, axis.dot(v));
+      a_high = std::max(a_high, axis.dot(v));
+    }
+    for (const Vector3d& v : b.vertices) {
+      b_low = std::min(b_low, axis.dot(v));
+      b_high = std::max(b_high, axis.dot(v));
+    }
+    least = std::min(least, std::min(a_high - b_low, b_high - a_low));
+  };
+  for (const Vector3d& n : a.normals)
+    along(n);
+  for (const Vector3d& n : b.normals)
+    along(n);
+  for (const Vector3d& ea : a.edge_directions)
+    for (const Vector3d& eb : b.edge_directions) {
+      const Vector3d axis = ea.cross(eb);
+      if (axis.norm() > 1e-6) along(axis.normalized());
+    }
+  return std::max(least, 0.0);
+}
+
+// The deepest overlap of any two bodies at their final poses, m, each body measured as itself
+// (measured_pieces: a fragment's concave outline, not its hull).
+double deepest_true_overlap(const Result& r, bool report = false) {
+  std::vector<std::vector<dynamics::ConvexPiece>> pieces;
+  std::vector<std::vector<dynamics::PlacedPiece>> placed(r.bodies.size());
+  for (std::size_t b = 0; b < r.bodies.size(); ++b)
+    pieces.push_back(measured_pieces(r.bodies[b].mesh));
+  for (std::size_t b = 0; b < r.bodies.size(); ++b) {
+    const auto& p = r.final_state[b].pose;
+    const Eigen::Quaterniond q(p.orientation[3], p.orientation[0], p.orientation[1],
+                               p.orientation[2]);
+    for (const auto& piece : pieces[b]) {
+      placed[b].emplace_back();
+      dynamics::place(piece, position(r.final_state[b]), q.toRotationMatrix(), placed[b].back());
+    }
+  }
+  double deepest = 0.0;
+  for (std::size_t a = 0; a < placed.size(); ++a)
+    for (std::size_t b = a + 1; b < placed.size(); ++b)
+      for (const auto& pa : placed[a])
+        for (const auto& pb : placed[b]) {
+          const double depth = penetration(pa, pb);
+          if (report && depth > 1e-3)
+            std::printf("    %s %s %g\n", r.bodies[a].name.c_str(), r.bodies[b].name.c_str(),
+                        depth);
+          deepest = std::max(deepest, depth);
+        }
   return deepest;
 }
 
@@ -107,5 +208,56 @@ TEST(Contacts, StrongWallEndsWithoutBricksInsideEachOther) {
   EXPECT_GT(deepest_overlap(simulate(off).result), 0.02);  // the measure sees the old fault
 }
 
+TEST(Contacts, BrokenPaneLandsWithoutFragmentsInsideEachOther) {
+  // Issue 13: `auto` used to skip every pair of fragments, so a broken pane's pieces landing on
+  // the ground lay inside each other. Now the pieces of a pane are left out only until they
+  // have once been apart: they leave the pane as without contacts (same release times and
+  // launch speeds) and land on each other, not inside each other.
+  scene::Scene s = testing::load_example_scene("window.json");
+  s.environment.ground = scene::GroundSpec{};  // y = 0, 0.45 m below the frame
+  s.simulation.duration_s = 4.0;
+  s.simulation.collisions = scene::CollisionMode::automatic;
+  const Result r = simulate(s).result;
+  scene::Scene off = s;
+  off.simulation.collisions = scene::CollisionMode::off;
+  const Result without = simulate(off).result;
+  ASSERT_EQ(r.fracture.size(), 1u);
+  const PaneReport& pane = r.fracture[0];
+  EXPECT_GT(pane.released, 20u);
+  EXPECT_EQ(pane.release_times_s, without.fracture[0].release_times_s);
+  EXPECT_EQ(pane.launch_speed_m_s.mean, without.fracture[0].launch_speed_m_s.mean);
+  EXPECT_EQ(pane.launch_speed_m_s.max, without.fracture[0].launch_speed_m_s.max);
+  for (std::size_t k = 0; k < pane.fragment_count; ++k) {
+    if (pane.release_times_s[k] < 0.0) continue;
+    const FinalState& f = r.final_state[pane.first_body + k];
+    EXPECT_LT(f.pose.position[2], -0.1) << k;  // into the room, away from the charge
+    EXPECT_LT(f.pose.position[1], 0.1) << k;   // on the ground
+  }
+  EXPECT_LT(deepest_true_overlap(r), 2e-3);
+  EXPECT_GT(deepest_true_overlap(without), 4e-3);  // the measure sees the old fault
+}
+
 }  // namespace
+}  // namespace brisance::engine
+namespace brisance::engine {
+TEST(Scratch, Scene) {
+  const char* path = std::getenv("SCENE");
+  if (!path) GTEST_SKIP();
+  std::ifstream in(path);
+  std::stringstream text;
+  text << in.rdbuf();
+  scene::Scene s = *scene::parse_scene_text(text.str()).scene;
+  for (auto mode : {scene::CollisionMode::off, scene::CollisionMode::automatic}) {
+    s.simulation.collisions = mode;
+    const Result r = simulate(s).result;
+    std::printf("mode %d steps %llu overlap %g hull %g contacts %llu\n", int(mode),
+                static_cast<unsigned long long>(r.stats.steps), deepest_true_overlap(r, true), 0.0,
+                static_cast<unsigned long long>(r.stats.contact_points));
+    if (std::getenv("POS"))
+      for (std::size_t b = 0; b < r.bodies.size(); ++b)
+        std::printf("  %s %.3f %.3f %.3f\n", r.bodies[b].name.c_str(),
+                    r.final_state[b].pose.position[0], r.final_state[b].pose.position[1],
+                    r.final_state[b].pose.position[2]);
+  }
+}
 }  // namespace brisance::engine

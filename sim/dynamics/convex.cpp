@@ -526,4 +526,31 @@ bool collide(const PlacedPiece& a, const PlacedPiece& b, double margin_m,
   return true;
 }
 
+bool separated(const PlacedPiece& a, const PlacedPiece& b, double margin_m) {
+  if ((a.min.array() > b.max.array() + margin_m).any() ||
+      (b.min.array() > a.max.array() + margin_m).any())
+    return true;
+  double low, high;
+  for (std::size_t f = 0; f < a.normals.size(); ++f) {
+    extent(b.vertices, a.normals[f], low, high);
+    if (low - a.offsets[f] > margin_m) return true;
+  }
+  for (std::size_t f = 0; f < b.normals.size(); ++f) {
+    extent(a.vertices, b.normals[f], low, high);
+    if (low - b.offsets[f] > margin_m) return true;
+  }
+  for (const Vec3& ea : a.edge_directions)
+    for (const Vec3& eb : b.edge_directions) {
+      Vec3 axis = ea.cross(eb);
+      const double length = axis.norm();
+      if (length < 1e-6) continue;
+      axis /= length;
+      double a_low, a_high, b_low, b_high;
+      extent(a.vertices, axis, a_low, a_high);
+      extent(b.vertices, axis, b_low, b_high);
+      if (b_low - a_high > margin_m || a_low - b_high > margin_m) return true;
+    }
+  return false;
+}
+
 }  // namespace brisance::dynamics

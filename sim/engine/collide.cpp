@@ -35,6 +35,10 @@ constexpr std::uint64_t kGroundId = 0xFFFFFF;
 // brick wall (65 % on the 16 walls).
 constexpr double kCacheMargin = 1.25;
 constexpr double kCacheMove_m = 1e-4;
+// A joined pair's shapes are tested for overlap again once it has moved this far relative to
+// where they last overlapped (part_joined_pairs): a tenth of a 6 mm pane's thickness.
+constexpr double kJoinedRetest_m = 6e-4;
+constexpr double kJoinedOverlap_m = 1e-4;
 
 std::uint64_t contact_key(std::uint64_t a, std::uint64_t b, std::uint32_t feature) {
   return (a << 40) | (b << 16) | (feature & 0xFFFFu);
@@ -143,10 +147,16 @@ void Run::init_collisions() {
       if ((low[a].array() > high[b].array() + kContactMargin_m).any() ||
           (low[b].array() > high[a].array() + kContactMargin_m).any())
         continue;
-      state_.joined_pairs.push_back(contact_key(std::min(a, b), std::max(a, b), 0));
+      const std::uint32_t first = std::min(a, b), second = std::max(a, b);
+      const dynamics::BodyState& sa = state_.bodies[first];
+      const dynamics::BodyState& sb = state_.bodies[second];
+      state_.joined_pairs.push_back(JoinedPair{
+          contact_key(first, second, 0), sa.orientation.conjugate() * (sb.position - sa.position),
+          sa.orientation.conjugate() * sb.orientation});
     }
   }
-  std::sort(state_.joined_pairs.begin(), state_.joined_pairs.end());
+  std::sort(state_.joined_pairs.begin(), state_.joined_pairs.end(),
+            [](const JoinedPair& x, const JoinedPair& y) { return x.key < y.key; });
 }
 
 // Places body b's convex pieces in the world where it is now, unless they already are.
@@ -165,25 +175,58 @@ void Run::place_body(std::uint32_t b) {
   state_.placed_valid[b] = 1;
 }
 
-// `auto`: a joined pair (init_collisions) is parted once its boxes, grown by both bodies'
-// margins, no longer meet, i.e. once the broadphase would not form it: the two are then more
-// than their margins apart along some axis, no longer along their shared crack faces. From
-// then on they collide like any other pair (fragments that meet again, piled on the ground).
-// Held pieces do not move: a pair with neither body awake stays as it is.
+// `auto`: a joined pair (init_collisions) is parted once the two are apart: their boxes, grown
+// by both bodies' margins, no longer meet (the broadphase would not form the pair), or their
+// collision shapes no longer overlap (separating axes, with no margin). From then on they
+// collide like any other pair: fragments that meet again, piled on the ground. Until then
+// their shapes overlap where the pane broke (the hulls of concave outlines), and contacts
+// would push them out of each other. The shapes are tested again only once the pair has moved
+// by kJoinedRetest_m relative to where they last overlapped (pieces flying side by side are
+// not tested every step). Held pieces do not move: a pair with neither body awake stays as it
+// is.
 void Run::part_joined_pairs() {
   auto& joined = state_.joined_pairs;
   const auto& margin = state_.margin;
   std::size_t out = 0;
-  for (const std::uint64_t key : joined) {
-    const auto a = static_cast<std::uint32_t>(key >> 40);
-    const auto b = static_cast<std::uint32_t>((key >> 16) & 0xFFFFFFu);
-    const bool awake = state_.motion[a] == Motion::awake || state_.motion[b] == Motion::awake;
+  for (JoinedPair& pair : joined) {
+    const auto a = static_cast<std::uint32_t>(pair.key >> 40);
+    const auto b = static_cast<std::uint32_t>((pair.key >> 16) & 0xFFFFFFu);
+    if (state_.motion[a] != Motion::awake && state_.motion[b] != Motion::awake) {
+      joined[out++] = pair;
+      continue;
+    }
     const double grow = margin[a] + margin[b];
-    const bool apart =
-        awake && ((state_.box_min[a].array() > state_.box_max[b].array() + grow).any() ||
-                  (state_.box_min[b].array() > state_.box_max[a].array() + grow).any());
-    if (apart) continue;
-    joined[out++] = key;
+    if ((state_.box_min[a].array() > state_.box_max[b].array() + grow).any() ||
+        (state_.box_min[b].array() > state_.box_max[a].array() + grow).any())
+      continue;
+    const dynamics::BodyState& sa = state_.bodies[a];
+    const dynamics::BodyState& sb = state_.bodies[b];
+    const Vec3 relative_position = sa.orientation.conjugate() * (sb.position - sa.position);
+    const dynamics::Quat relative_turn = sa.orientation.conjugate() * sb.orientation;
+    const double half_turn = (pair.relative_turn.conjugate() * relative_turn).vec().norm();
+    const double moved =
+        (relative_position - pair.relative_position).norm() +
+        2.0 * std::asin(std::min(half_turn, 1.0)) * model_.bodies[b].bounding_radius_m;
+    // (Not while either is still being launched: the launch, the pane's velocity shape, is the
+    // pane's own; the frame and the neighbours act on it only once its blast load has ended.)
+    auto launching = [&](std::uint32_t x) {
+      return state_.release_time_s[x] >= 0.0 && state_.launch_speed_m_s[x] < 0.0;
+    };
+    if (moved > kJoinedRetest_m && !launching(a) && !launching(b)) {
+      place_body(a);
+      place_body(b);
+      // A fragment and its frame start touching, not overlapping: apart once they overlap by
+      // no more than kJoinedOverlap_m.
+      const double gap = model_.fragment[a] && model_.fragment[b] ? 0.0 : -kJoinedOverlap_m;
+      bool apart = true;
+      for (const auto& pa : state_.placed[a])
+        for (const auto& pb : state_.placed[b])
+          apart = apart && dynamics::separated(pa, pb, gap);
+      if (apart) continue;
+      pair.relative_position = relative_position;
+      pair.relative_turn = relative_turn;
+    }
+    joined[out++] = pair;
   }
   joined.resize(out);
 }
@@ -320,8 +363,10 @@ void Run::collide(double dt) {
       }
     }
     if (!state_.joined_pairs.empty() &&
-        std::binary_search(state_.joined_pairs.begin(), state_.joined_pairs.end(),
-                           contact_key(a, b, 0))) {
+        std::binary_search(
+            state_.joined_pairs.begin(), state_.joined_pairs.end(),
+            JoinedPair{contact_key(a, b, 0), Vec3::Zero(), dynamics::Quat()},
+            [](const JoinedPair& x, const JoinedPair& y) { return x.key < y.key; })) {
       // Pieces of one pane not yet apart (part_joined_pairs).
       ++result_.stats.collision_pairs_skipped;
       continue;

@@ -51,6 +51,14 @@ struct CachedPoint {
   std::uint32_t feature;
 };
 
+// `auto`: two pieces of a pane that touch at the start (collide.cpp, part_joined_pairs), and the
+// pose of b in a's frame when their hulls were last found overlapping (at first, the start).
+struct JoinedPair {
+  std::uint64_t key;             // contact_key(a, b, 0)
+  Vec3 relative_position;        // b's centre of mass in a's frame, m
+  dynamics::Quat relative_turn;  // b's orientation in a's frame
+};
+
 // Everything that changes while stepping; per body in body order unless said otherwise.
 struct RunState {
   std::vector<dynamics::BodyState> bodies;
@@ -131,7 +139,7 @@ struct RunState {
   std::vector<CachedPoint> cached_points, next_cached_points;
   // `auto`: pairs of pieces of a pane (two fragments, or a fragment and an anchored body: its
   // frame) whose boxes meet at the start and have not been apart since, sorted.
-  std::vector<std::uint64_t> joined_pairs;
+  std::vector<JoinedPair> joined_pairs;
   // Pairs pressed together (contact_key(a, b, 0)), sorted: last step's and this step's.
   std::vector<std::uint64_t> touching_pairs, next_touching_pairs;
   // Step-size limits gathered while integrating, used for the next step.

@@ -2320,7 +2320,7 @@ export interface components {
                 per_panel?: boolean;
             };
             /**
-             * @description Contacts between bodies (off by default for now: resting stacks still jitter by a few millimetres). auto skips pairs that cannot meet (moving apart and not pressed together, a fragment and the frame it starts in) and fragment-fragment pairs; on tests every pair whose boxes meet; off lets bodies pass through each other.
+             * @description Contacts between bodies (off by default for now: resting stacks still jitter by a few millimetres). auto skips pairs that cannot meet (moving apart and not pressed together; a fragment and a body both in flight, farther apart than they move towards each other in the step) and the pieces of a broken pane (two fragments, or a fragment and its frame, touching at the start) until they have once been apart; on tests every pair whose boxes meet; off lets bodies pass through each other.
              * @default off
              * @enum {string}
              */

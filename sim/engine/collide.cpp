@@ -38,6 +38,11 @@ constexpr double kCacheMove_m = 1e-4;
 // A joined pair's shapes are tested for overlap again once it has moved this far relative to
 // where they last overlapped (part_joined_pairs): a tenth of a 6 mm pane's thickness.
 constexpr double kJoinedRetest_m = 6e-4;
+// Two fragments part once their shapes are kJoinedGap_m apart (the contact margin: as soon as
+// they part, the neighbours they were are not within it; with no gap, 579 fragments of a pane
+// broken by the static model made twice the contact points); a fragment and its frame, which
+// start touching but not overlapping, once they overlap by no more than kJoinedOverlap_m.
+constexpr double kJoinedGap_m = 2e-3;
 constexpr double kJoinedOverlap_m = 1e-4;
 
 std::uint64_t contact_key(std::uint64_t a, std::uint64_t b, std::uint32_t feature) {
@@ -177,8 +182,9 @@ void Run::place_body(std::uint32_t b) {
 
 // `auto`: a joined pair (init_collisions) is parted once the two are apart: their boxes, grown
 // by both bodies' margins, no longer meet (the broadphase would not form the pair), or their
-// collision shapes no longer overlap (separating axes, with no margin). From then on they
-// collide like any other pair: fragments that meet again, piled on the ground. Until then
+// collision shapes no longer overlap (separating axes). From then on they
+// collide like any other pair: fragments that meet again, piled on the ground. (Two fragments'
+// shapes must be kJoinedGap_m apart; a fragment's and its frame's may still touch.) Until then
 // their shapes overlap where the pane broke (the hulls of concave outlines), and contacts
 // would push them out of each other. The shapes are tested again only once the pair has moved
 // by kJoinedRetest_m relative to where they last overlapped (pieces flying side by side are
@@ -215,9 +221,8 @@ void Run::part_joined_pairs() {
     if (moved > kJoinedRetest_m && !launching(a) && !launching(b)) {
       place_body(a);
       place_body(b);
-      // A fragment and its frame start touching, not overlapping: apart once they overlap by
-      // no more than kJoinedOverlap_m.
-      const double gap = model_.fragment[a] && model_.fragment[b] ? 0.0 : -kJoinedOverlap_m;
+      const double gap =
+          model_.fragment[a] && model_.fragment[b] ? kJoinedGap_m : -kJoinedOverlap_m;
       bool apart = true;
       for (const auto& pa : state_.placed[a])
         for (const auto& pb : state_.placed[b])
@@ -384,26 +389,28 @@ void Run::collide(double dt) {
         continue;
       }
     }
+    double pair_margin = margin[a] + margin[b];
     if (model_.collisions == Collisions::automatic && (model_.fragment[a] || model_.fragment[b]) &&
         in_flight(a) && in_flight(b)) {
-      // A fragment and a body in flight whose boxes are farther apart than their motion
-      // relative to each other in the step (plus the margins): they cannot meet in it, however
-      // fast both fly (fragments of one pane flying side by side, whose own margins, grown by
-      // their speeds, overlap: 535 contact points on window.json against 19). Only in flight,
-      // where only this step's contacts change the velocities. Only with a fragment: for all
-      // pairs, the inert speculative contacts it leaves out (bricks falling side by side)
-      // changed the islands' solve enough that 5 of the 30 towers of
+      // A fragment and a body in flight: their margin is their motion relative to each other
+      // in the step (plus kContactMargin_m), not each one's own, and the pair is skipped if
+      // their boxes are farther apart than that: however fast both fly, they cannot meet in
+      // the step (fragments of one pane flying side by side, whose own margins, grown by their
+      // speeds, overlap: 535 contact points on window.json against 19, and with 579 fragments
+      // a speculative contact between most neighbours in every step). Only in flight, where
+      // only this step's contacts change the velocities. Only with a fragment: for all pairs,
+      // leaving out the inert speculative contacts of bricks falling side by side changed the
+      // islands' solve enough that 5 of the 30 towers of
       // Stability.BrickTowerStandsWhateverTheDrop fell and BoxPyramidSettles failed.
       const Vec3 relative = (state_.bodies[b].velocity - state_.bodies[a].velocity) * dt;
-      const double grow =
-          2.0 * kContactMargin_m + relative.norm() + spin_margin[a] + spin_margin[b];
+      const double grow = kContactMargin_m + relative.norm() + spin_margin[a] + spin_margin[b];
       if ((state_.box_min[a].array() > state_.box_max[b].array() + grow).any() ||
           (state_.box_min[b].array() > state_.box_max[a].array() + grow).any()) {
         ++result_.stats.collision_pairs_skipped;
         continue;
       }
+      pair_margin = std::min(pair_margin, grow);
     }
-    const double pair_margin = margin[a] + margin[b];
     const dynamics::BodyState& sa = state_.bodies[a];
     const dynamics::BodyState& sb = state_.bodies[b];
     const Mat3 ra = sa.orientation.toRotationMatrix();

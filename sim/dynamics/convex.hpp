@@ -80,7 +80,8 @@ bool collide(const PlacedPiece& a, const PlacedPiece& b, double margin_m,
              double side_margin_m = -1.0);
 
 // Whether pieces a and b are farther than `margin_m` apart along one of their separating axes
-// (the test of collide without its manifold; it stops at the first such axis).
+// (a negative margin: overlap by less than its size along one of them); the test of collide
+// without its manifold, stopping at the first such axis.
 bool separated(const PlacedPiece& a, const PlacedPiece& b, double margin_m);
 
 }  // namespace brisance::dynamics

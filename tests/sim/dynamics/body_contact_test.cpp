@@ -3,9 +3,13 @@
 #include "sim/dynamics/body_contact.hpp"
 
 #include <cmath>
+#include <numbers>
 #include <vector>
 
 #include <gtest/gtest.h>
+
+#include "sim/dynamics/convex.hpp"
+#include "sim/geometry/mesh.hpp"
 
 namespace brisance::dynamics {
 namespace {
@@ -67,6 +71,34 @@ TEST(PairSolve, RestitutionAndRestAgainstAStaticPartner) {
     ASSERT_NE(next.find(c.key), nullptr);
     EXPECT_NEAR(next.find(c.key)->y(), speed + expected, 1e-12);
   }
+}
+
+TEST(Separated, AgreesWithTheNarrowphaseAcrossFacesAndEdges) {
+  // Two unit cubes: apart along a face normal, along an edge cross product only (the second
+  // turned 45 degrees about y and about x, its edge facing the first's edge), touching and
+  // overlapping. separated() must say "apart" exactly where collide() finds no contact within
+  // the same margin.
+  const CollisionShape cube = collision_shape(geometry::make_box(Vec3::Ones()), Vec3::Zero());
+  ASSERT_EQ(cube.pieces.size(), 1u);
+  const Mat3 turned = (Eigen::AngleAxisd(std::numbers::pi / 4, Vec3::UnitY()) *
+                       Eigen::AngleAxisd(std::numbers::pi / 4, Vec3::UnitX()))
+                          .toRotationMatrix();
+  PlacedPiece a, b;
+  place(cube.pieces[0], Vec3::Zero(), Mat3::Identity(), a);
+  Manifold manifold;
+  for (const double x : {0.9, 0.999, 1.0005, 1.01, 1.2, 1.5, 2.0})
+    for (const Mat3& rotation : {Mat3(Mat3::Identity()), turned})
+      for (const double margin : {0.0, 2e-3, -1e-4}) {
+        place(cube.pieces[0], Vec3(x, 0.3, 0.2), rotation, b);
+        EXPECT_EQ(separated(a, b, margin), !collide(a, b, margin, 0, manifold))
+            << x << " " << margin;
+      }
+  place(cube.pieces[0], Vec3(1.001, 0.0, 0.0), Mat3::Identity(), b);
+  EXPECT_TRUE(separated(a, b, 0.0));    // a 1 mm gap
+  EXPECT_FALSE(separated(a, b, 2e-3));  // within 2 mm
+  place(cube.pieces[0], Vec3(0.9999, 0.0, 0.0), Mat3::Identity(), b);
+  EXPECT_TRUE(separated(a, b, -1e-3));   // overlapping by 0.1 mm: by less than 1 mm
+  EXPECT_FALSE(separated(a, b, -5e-5));  // but by more than 0.05 mm
 }
 
 }  // namespace

@@ -251,6 +251,16 @@ nlohmann::ordered_json to_json(const Plan& plan, const fracture::FracturePattern
   out["angle_variance_deg"] = p.angle_variance_deg;
   out["wiggle_prob"] = p.wiggle_probability;
   out["wiggle_deg"] = p.wiggle_variance_deg;
+  using Kind = fracture::FractureParams::Kind;
+  out["pattern"] = p.kind == Kind::radial_ring ? "radial_ring"
+                   : p.kind == Kind::dice      ? "dice"
+                                               : "crack_tree";
+  if (p.kind == Kind::radial_ring) {
+    out["radial_cracks"] = p.radial.count;
+    out["ring_radii"] = p.radial.ring_radii_m;
+  } else if (p.kind == Kind::dice) {
+    out["dice_cell"] = p.dice_cell_m;
+  }
   nlohmann::ordered_json fragments = nlohmann::ordered_json::array();
   for (const fracture::Fragment& f : pattern.fragments) {
     nlohmann::ordered_json polygon = nlohmann::ordered_json::array();
@@ -328,14 +338,24 @@ int run_fracture(const Args& args, std::ostream& out) {
     file << to_svg(pattern);
   }
   if (!file) throw std::runtime_error("writing '" + path + "' failed");
-  out << text::printf(
-      "%zu fragments written to %s (growth length %.3g m%s; stress %.3g MPa at %.4g kPa%s)\n",
-      pattern.fragments.size(), path.c_str(), plan.pattern.growth_length_m,
-      plan.pattern.growth_length_given     ? ", given"
-      : plan.pattern.growth_length_clamped ? ", clamped"
-                                           : "",
-      plan.pattern.response.plate.stress_pa / 1e6, plan.pressure_pa / 1e3,
-      plan.pressure_given ? "" : ", the pressure that just breaks it");
+  using Kind = fracture::FractureParams::Kind;
+  const fracture::FractureParams& p = plan.pattern.params;
+  std::string what;
+  if (p.kind == Kind::radial_ring)
+    what =
+        text::printf("%d radial cracks%s, %zu rings", p.radial.count,
+                     plan.pattern.radial_capped ? " (capped)" : "", p.radial.ring_radii_m.size());
+  else if (p.kind == Kind::dice)
+    what = text::printf("tempered dice %.3g mm", p.dice_cell_m * 1e3);
+  else
+    what = text::printf("growth length %.3g m%s", plan.pattern.growth_length_m,
+                        plan.pattern.growth_length_given     ? ", given"
+                        : plan.pattern.growth_length_clamped ? ", clamped"
+                                                             : "");
+  out << text::printf("%zu fragments written to %s (%s; stress %.3g MPa at %.4g kPa%s)\n",
+                      pattern.fragments.size(), path.c_str(), what.c_str(),
+                      plan.pattern.response.plate.stress_pa / 1e6, plan.pressure_pa / 1e3,
+                      plan.pressure_given ? "" : ", the pressure that just breaks it");
   return kExitOk;
 }
 

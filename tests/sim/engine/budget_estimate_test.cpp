@@ -2,6 +2,7 @@
 // the run creates, so it refuses a scene the run would stop for (fine fragments on many panes)
 // and never one the run takes: with limits and a budget set exactly to what a run creates, every
 // example scene is still accepted.
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -173,6 +174,42 @@ TEST(BudgetEstimate, FewestFragmentsIsBelowEveryGrownPattern) {
     }
   }
   EXPECT_EQ(checked, 30);
+}
+
+// The same for the patterns a job grows without a given growth length: radial cracks and rings
+// (annealed glass) over pane shapes and pressures, and tempered dice (exact).
+TEST(BudgetEstimate, FewestFragmentsIsBelowRadialAndDicePatterns) {
+  struct Case {
+    double width, height, pressure_pa;
+  };
+  const Case cases[] = {
+      {1.2, 0.9, 4.0e3}, {1.2, 0.9, 20e3},  {1.5, 0.15, 400e3}, {0.1, 0.025, 3e6},
+      {0.6, 1.8, 3e3},   {0.3, 0.3, 100e3}, {2.0, 0.2, 60e3},   {0.5, 0.5, 8e3},
+  };
+  double least_ratio = 1e9;
+  for (const Case& c : cases) {
+    for (std::uint64_t seed = 1; seed <= 3; ++seed) {
+      scene::FractureSpec spec;
+      spec.breakage = scene::FractureSpec::Breakage::static_plate;
+      spec.trigger = scene::FractureSpec::Trigger::always;
+      const PaneSize pane{c.width, c.height, 0.006, 2500.0};
+      PaneLoad load;
+      load.peak_pressure_pa = c.pressure_pa;
+      const PanePattern plan = pane_pattern(spec, pane, load, seed);
+      ASSERT_EQ(plan.kind, fracture::FractureParams::Kind::radial_ring);
+      const std::size_t grown = fracture::fracture(plan.params).fragments.size();
+      EXPECT_LE(fewest_fragments(plan, c.width, c.height), grown)
+          << c.width << " x " << c.height << " m at " << c.pressure_pa << " Pa, "
+          << plan.params.radial.count << " radial cracks, seed " << seed;
+      least_ratio = std::min(least_ratio, static_cast<double>(grown) / plan.params.radial.count);
+      spec.surface_compression_pa = 75e6;
+      const PanePattern dice = pane_pattern(spec, pane, load, seed);
+      ASSERT_EQ(dice.kind, fracture::FractureParams::Kind::dice);
+      EXPECT_EQ(fewest_fragments(dice, c.width, c.height),
+                fracture::fracture(dice.params).fragments.size());
+    }
+  }
+  std::printf("  least fragments per radial crack: %.2f\n", least_ratio);
 }
 
 }  // namespace

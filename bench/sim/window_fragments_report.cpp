@@ -228,9 +228,11 @@ int main(int argc, char** argv) {
                                  : "-");
     table << line;
   }
-  table << "(growth_mm: annealed, the branching length r_b = (A_b / sigma_e)^2 at the centre "
-           "(docs/fracture.md); tempered, the dice's cell size. *: capped radial cracks. "
-           "fewest_per_50mm: EN 12150-1 asks at least 40 for 4-12 mm tempered glass)\n";
+  table << "(growth_mm: eq. 5.5's growth length pattern_scale x a_c, what the crack tree "
+           "would grow with; the radial-ring pattern and the dice do not use it "
+           "(docs/fracture.md). *: clamped. fewest_per_50mm: the fewest fragments in any "
+           "50 mm square 25 mm or more from the edges; EN 12150-1 asks at least 40 for "
+           "4-12 mm tempered glass)\n";
   std::fputs(table.str().c_str(), stdout);
 
   std::filesystem::create_directories(out_dir);

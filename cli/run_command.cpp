@@ -236,6 +236,20 @@ int run_simulation(const Args& args, std::ostream& out) {
       result.animated.size(), static_cast<unsigned long long>(s.bodies_never_released),
       static_cast<unsigned long long>(s.panels_loaded), static_cast<unsigned long long>(s.panels),
       output_path.string().c_str());
+  // Each breakable pane: whether it broke and the hazard its glass is to the room behind it
+  // (docs/fracture.md, "Hazard rating").
+  for (const engine::PaneReport& pane : result.fracture) {
+    const engine::PaneHazard& hazard = pane.hazard;
+    out << text::printf(
+        "  pane %s: %s; GSA P100 condition %s (hazard %s)\n", pane.name.c_str(),
+        pane.broken ? text::printf("%llu fragments, %llu released, %llu into the room behind it",
+                                   static_cast<unsigned long long>(pane.fragment_count),
+                                   static_cast<unsigned long long>(pane.released),
+                                   static_cast<unsigned long long>(hazard.fragments_in_room))
+                          .c_str()
+                    : "not broken",
+        hazard.condition.c_str(), hazard.hazard_level.c_str());
+  }
   for (const engine::Warning& warning : result.warnings)
     std::cerr << "warning: " << warning.code << " (x" << warning.count << "): " << warning.message
               << "\n";

@@ -13,31 +13,68 @@ namespace brisance::dynamics {
 
 namespace {
 
+inline std::size_t slot_of(std::uint64_t key, std::size_t mask) {
+  return static_cast<std::size_t>((key * 0x9E3779B97F4A7C15ull) >> 32) & mask;
+}
+
+}  // namespace
+
+void ContactImpulses::seal() {
+  std::size_t size = 16;
+  while (size < 2 * entries_.size())
+    size *= 2;
+  slots_.assign(size, 0);
+  const std::size_t mask = size - 1;
+  for (std::size_t i = 0; i < entries_.size(); ++i) {
+    std::size_t slot = slot_of(entries_[i].key, mask);
+    // Linear probing; a key added again takes over its slot (the last added is kept).
+    while (slots_[slot] != 0 && entries_[slots_[slot] - 1].key != entries_[i].key)
+      slot = (slot + 1) & mask;
+    slots_[slot] = static_cast<std::uint32_t>(i + 1);
+  }
+}
+
+const Vec3* ContactImpulses::find(std::uint64_t key) const {
+  if (slots_.empty()) return nullptr;
+  const std::size_t mask = slots_.size() - 1;
+  for (std::size_t slot = slot_of(key, mask); slots_[slot] != 0; slot = (slot + 1) & mask)
+    if (entries_[slots_[slot] - 1].key == key) return &entries_[slots_[slot] - 1].impulse;
+  return nullptr;
+}
+
+namespace {
+
 // The speed of b relative to a at the contact along direction k (0 normal, 1 u, 2 v).
-inline double relative_speed(const SolverBody& a, const SolverBody& b, const PairContact& c,
+inline double relative_speed(const SolverBody& a, const SolverBody& b, const ContactRow& r,
                              const Vec3& direction, int k) {
-  return direction.dot(b.velocity - a.velocity) + c.lever_b[k].dot(b.omega) -
-         c.lever_a[k].dot(a.omega);
+  return direction.dot(b.velocity - a.velocity) + r.lever_b[k].dot(b.omega) -
+         r.lever_a[k].dot(a.omega);
 }
 
 // An impulse j along direction k on b (and -j on a).
-inline void apply(SolverBody& a, SolverBody& b, const PairContact& c, const Vec3& direction, int k,
+inline void apply(SolverBody& a, SolverBody& b, const ContactRow& r, const Vec3& direction, int k,
                   double j) {
   a.velocity -= (j * a.inverse_mass) * direction;
-  a.omega -= j * c.spin_a[k];
+  a.omega -= j * r.spin_a[k];
   b.velocity += (j * b.inverse_mass) * direction;
-  b.omega += j * c.spin_b[k];
+  b.omega += j * r.spin_b[k];
 }
 
 }  // namespace
 
 int solve_pair_contacts(std::vector<SolverBody>& bodies, std::span<PairContact> contacts,
                         const ContactImpulses& last, ContactImpulses& next,
-                        const PairSolveSettings& settings) {
+                        const PairSolveSettings& settings, PairSolveBuffers& buffers) {
   const double dt = settings.dt_s;
-  // Prepare (the caller sets each contact's arms from the centres of mass).
-  std::vector<std::uint32_t> island;  // the moving bodies
-  for (PairContact& c : contacts) {
+  // Prepare (the caller sets each contact's arms from the centres of mass), straight into the
+  // rows the sweeps read.
+  std::vector<std::uint32_t>& island = buffers.island;  // the moving bodies
+  island.clear();
+  std::vector<ContactRow>& rows = buffers.rows;
+  rows.resize(contacts.size());
+  for (std::size_t i = 0; i < contacts.size(); ++i) {
+    PairContact& c = contacts[i];
+    ContactRow& r = rows[i];
     SolverBody& a = bodies[c.a];
     SolverBody& b = bodies[c.b];
     for (std::uint32_t x : {c.a, c.b})
@@ -48,25 +85,34 @@ int solve_pair_contacts(std::vector<SolverBody>& bodies, std::span<PairContact> 
     a.reach_m = std::max(a.reach_m, c.arm_a.norm());
     b.reach_m = std::max(b.reach_m, c.arm_b.norm());
     const Vec3& n = c.normal;
+    r.a = c.a;
+    r.b = c.b;
+    r.inverse_mass_a = a.inverse_mass;
+    r.inverse_mass_b = b.inverse_mass;
+    r.normal = n;
     // A tangent basis from the normal (any: friction is clamped on the disc, and the warm start
     // is kept as a world vector).
-    c.tangent_u = std::abs(n.x()) < 0.57 ? Vec3(Vec3::UnitX().cross(n).normalized())
-                                         : Vec3(Vec3::UnitY().cross(n).normalized());
-    c.tangent_v = n.cross(c.tangent_u);
-    const std::array<Vec3, 3> directions = {n, c.tangent_u, c.tangent_v};
+    r.u = std::abs(n.x()) < 0.57 ? Vec3(Vec3::UnitX().cross(n).normalized())
+                                 : Vec3(Vec3::UnitY().cross(n).normalized());
+    r.v = n.cross(r.u);
+    const std::array<Vec3, 3> directions = {n, r.u, r.v};
     std::array<double, 3> masses;
+    // (A static partner's arm, levers and spins are zero: not multiplied out.)
+    const bool a_moves = a.inverse_mass > 0.0, b_moves = b.inverse_mass > 0.0;
     for (int k = 0; k < 3; ++k) {
-      c.lever_a[k] = c.arm_a.cross(directions[k]);
-      c.lever_b[k] = c.arm_b.cross(directions[k]);
-      c.spin_a[k] = a.inverse_inertia * c.lever_a[k];
-      c.spin_b[k] = b.inverse_inertia * c.lever_b[k];
-      masses[k] = 1.0 / (a.inverse_mass + b.inverse_mass + c.lever_a[k].dot(c.spin_a[k]) +
-                         c.lever_b[k].dot(c.spin_b[k]));
+      r.lever_a[k] = a_moves ? Vec3(c.arm_a.cross(directions[k])) : Vec3::Zero();
+      r.lever_b[k] = b_moves ? Vec3(c.arm_b.cross(directions[k])) : Vec3::Zero();
+      r.spin_a[k] = a_moves ? Vec3(a.inverse_inertia * r.lever_a[k]) : Vec3::Zero();
+      r.spin_b[k] = b_moves ? Vec3(b.inverse_inertia * r.lever_b[k]) : Vec3::Zero();
+      masses[k] = 1.0 / (a.inverse_mass + b.inverse_mass + r.lever_a[k].dot(r.spin_a[k]) +
+                         r.lever_b[k].dot(r.spin_b[k]));
     }
-    c.mass_normal = masses[0];
-    c.mass_u = masses[1];
-    c.mass_v = masses[2];
-    const double approach = relative_speed(a, b, c, n, 0);
+    r.mass_normal = masses[0];
+    r.mass_u = masses[1];
+    r.mass_v = masses[2];
+    r.friction = c.friction;
+    r.normal_impulse = r.friction_u = r.friction_v = 0.0;
+    const double approach = relative_speed(a, b, r, n, 0);
     c.approach_before = approach;
     // Restitution on the approach speed before this step's gravity: a body resting on another
     // gains g dt towards it every step, which must not become a bounce however long the step
@@ -74,29 +120,32 @@ int solve_pair_contacts(std::vector<SolverBody>& bodies, std::span<PairContact> 
     const double impact = approach - c.gravity_speed_m_s;
     const double start_depth = c.depth_m + approach * dt;  // before this step's motion
     if (impact < -settings.bounce_threshold_m_s && c.depth_m >= 0.0)
-      c.target_speed = -c.restitution * impact;  // met within the step, fast: a bounce
+      r.target_speed = -c.restitution * impact;  // met within the step, fast: a bounce
     else
-      c.target_speed = std::min(start_depth, 0.0) / dt;  // a gap may close within the step
+      r.target_speed = std::min(start_depth, 0.0) / dt;  // a gap may close within the step
   }
   // Warm start.
-  for (PairContact& c : contacts) {
-    const auto found = last.find(c.key);
-    if (found == last.end()) continue;
-    const Vec3 j = settings.warm_start_scale * found->second;
-    c.normal_impulse = std::max(0.0, j.dot(c.normal));
-    double fu = j.dot(c.tangent_u), fv = j.dot(c.tangent_v);
-    const double limit = c.friction * c.normal_impulse;
+  for (std::size_t i = 0; i < contacts.size(); ++i) {
+    const Vec3* found = last.find(contacts[i].key);
+    if (!found) continue;
+    ContactRow& r = rows[i];
+    const Vec3 j = settings.warm_start_scale * *found;
+    r.normal_impulse = std::max(0.0, j.dot(r.normal));
+    double fu = j.dot(r.u), fv = j.dot(r.v);
+    const double limit = r.friction * r.normal_impulse;
     const double squared = fu * fu + fv * fv;
     if (squared > limit * limit) {
       const double scale = limit / std::sqrt(squared);
       fu *= scale;
       fv *= scale;
     }
-    c.friction_u = fu;
-    c.friction_v = fv;
-    apply(bodies[c.a], bodies[c.b], c, c.normal, 0, c.normal_impulse);
-    apply(bodies[c.a], bodies[c.b], c, c.tangent_u, 1, fu);
-    apply(bodies[c.a], bodies[c.b], c, c.tangent_v, 2, fv);
+    r.friction_u = fu;
+    r.friction_v = fv;
+    SolverBody& a = bodies[r.a];
+    SolverBody& b = bodies[r.b];
+    apply(a, b, r, r.normal, 0, r.normal_impulse);
+    apply(a, b, r, r.u, 1, fu);
+    apply(a, b, r, r.v, 2, fv);
   }
   // Sweeps, until one changes no body's velocity by more than the tolerance (at its farthest
   // contact point; PairSolveSettings). Judged on the bodies, not on each contact's impulse: where a
@@ -106,23 +155,6 @@ int solve_pair_contacts(std::vector<SolverBody>& bodies, std::span<PairContact> 
     bodies[x].swept_velocity = bodies[x].velocity;
     bodies[x].swept_omega = bodies[x].omega;
   }
-  // The sweeps read only what they need, packed per contact (the contacts themselves are four
-  // times larger), and keep both bodies' velocities in locals while a contact is solved.
-  struct Row {
-    std::uint32_t a, b;
-    double inverse_mass_a, inverse_mass_b;
-    Vec3 normal, u, v;
-    std::array<Vec3, 3> lever_a, lever_b, spin_a, spin_b;
-    double mass_normal, mass_u, mass_v, target_speed, friction;
-    double normal_impulse, friction_u, friction_v;
-  };
-  std::vector<Row> rows;
-  rows.reserve(contacts.size());
-  for (const PairContact& c : contacts)
-    rows.push_back(Row{c.a, c.b, bodies[c.a].inverse_mass, bodies[c.b].inverse_mass, c.normal,
-                       c.tangent_u, c.tangent_v, c.lever_a, c.lever_b, c.spin_a, c.spin_b,
-                       c.mass_normal, c.mass_u, c.mass_v, c.target_speed, c.friction,
-                       c.normal_impulse, c.friction_u, c.friction_v});
   double slowest = INFINITY;
   for (std::uint32_t x : island)
     slowest =
@@ -131,7 +163,7 @@ int solve_pair_contacts(std::vector<SolverBody>& bodies, std::span<PairContact> 
   int sweeps = 0;
   while (sweeps < settings.iterations) {
     ++sweeps;
-    for (Row& r : rows) {
+    for (ContactRow& r : rows) {
       SolverBody& a = bodies[r.a];
       SolverBody& b = bodies[r.b];
       Vec3 va = a.velocity, wa = a.omega, vb = b.velocity, wb = b.omega;
@@ -144,26 +176,39 @@ int solve_pair_contacts(std::vector<SolverBody>& bodies, std::span<PairContact> 
       wa -= dn * r.spin_a[0];
       vb += (dn * r.inverse_mass_b) * r.normal;
       wb += dn * r.spin_b[0];
-      const Vec3 slide = vb - va;
-      double fu =
-          r.friction_u - (r.u.dot(slide) + r.lever_b[1].dot(wb) - r.lever_a[1].dot(wa)) * r.mass_u;
-      double fv =
-          r.friction_v - (r.v.dot(slide) + r.lever_b[2].dot(wb) - r.lever_a[2].dot(wa)) * r.mass_v;
+      // Friction on the disc of the normal impulse (none without one: a gap, or a contact
+      // pulled apart, which is most speculative contacts; skipped, it spares the clamp's root).
       const double limit = r.friction * r.normal_impulse;
-      const double squared = fu * fu + fv * fv;
-      if (squared > limit * limit) {
-        const double scale = limit / std::sqrt(squared);
-        fu *= scale;
-        fv *= scale;
+      double fu = 0.0, fv = 0.0;
+      if (limit > 0.0) {
+        const Vec3 slide = vb - va;
+        fu = r.friction_u -
+             (r.u.dot(slide) + r.lever_b[1].dot(wb) - r.lever_a[1].dot(wa)) * r.mass_u;
+        fv = r.friction_v -
+             (r.v.dot(slide) + r.lever_b[2].dot(wb) - r.lever_a[2].dot(wa)) * r.mass_v;
+        const double squared = fu * fu + fv * fv;
+        if (squared > limit * limit) {
+          const double scale = limit / std::sqrt(squared);
+          fu *= scale;
+          fv *= scale;
+        }
       }
       const double du = fu - r.friction_u, dv = fv - r.friction_v;
       r.friction_u = fu;
       r.friction_v = fv;
       const Vec3 push = du * r.u + dv * r.v;
-      a.velocity = va - r.inverse_mass_a * push;
-      a.omega = wa - du * r.spin_a[1] - dv * r.spin_a[2];
-      b.velocity = vb + r.inverse_mass_b * push;
-      b.omega = wb + du * r.spin_b[1] + dv * r.spin_b[2];
+      // Nothing is written to a static partner (zero inverse mass and inertia: its velocities
+      // do not change). The engine's static partners are all one solver body: a store there
+      // chained every contact with a static partner to the one before it through memory, and
+      // the sweep's contacts could not overlap in the processor.
+      if (r.inverse_mass_a > 0.0) {
+        a.velocity = va - r.inverse_mass_a * push;
+        a.omega = wa - du * r.spin_a[1] - dv * r.spin_a[2];
+      }
+      if (r.inverse_mass_b > 0.0) {
+        b.velocity = vb + r.inverse_mass_b * push;
+        b.omega = wb + du * r.spin_b[1] + dv * r.spin_b[2];
+      }
     }
     double largest = 0.0;
     for (std::uint32_t x : island) {
@@ -176,19 +221,18 @@ int solve_pair_contacts(std::vector<SolverBody>& bodies, std::span<PairContact> 
     if (largest < converged) break;
   }
   for (std::size_t i = 0; i < rows.size(); ++i) {
-    contacts[i].normal_impulse = rows[i].normal_impulse;
-    contacts[i].friction_u = rows[i].friction_u;
-    contacts[i].friction_v = rows[i].friction_v;
+    const ContactRow& r = rows[i];
+    contacts[i].normal_impulse = r.normal_impulse;
+    next.add(contacts[i].key,
+             r.normal_impulse * r.normal + r.friction_u * r.u + r.friction_v * r.v);
   }
-  for (const PairContact& c : contacts)
-    next[c.key] =
-        c.normal_impulse * c.normal + c.friction_u * c.tangent_u + c.friction_v * c.tangent_v;
   // Positions: the depth each contact has once the caller moves the bodies by their velocity
   // change over the step, then a few passes of shifts along the normals of the penetration
   // beyond the slop, in proportion to the inverse masses, each contact's depth corrected by the
   // shifts so far. Shifts move no velocity: they add no energy.
-  for (PairContact& c : contacts) {
-    const double speed = relative_speed(bodies[c.a], bodies[c.b], c, c.normal, 0);
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    PairContact& c = contacts[i];
+    const double speed = relative_speed(bodies[c.a], bodies[c.b], rows[i], c.normal, 0);
     c.depth_after_m = c.depth_m - (speed - c.approach_before) * dt;
   }
   for (int pass = 0; pass < 3; ++pass) {

@@ -358,8 +358,8 @@ void clip(const std::vector<ClipPoint>& polygon, const Vec3& normal, double offs
 // where within the margin of the reference plane, each midway between the surfaces. The
 // normal (from a to b) is the reference face's, reversed when the reference is b.
 void face_manifold(const PlacedPiece& reference, const PlacedPiece& incident, std::size_t face,
-                   bool reference_is_b, double margin_m, std::uint32_t feature_base,
-                   Manifold& out) {
+                   bool reference_is_b, double margin_m, double side_margin_m,
+                   std::uint32_t feature_base, Manifold& out) {
   const Vec3& n = reference.normals[face];
   const double offset = reference.offsets[face];
   std::size_t opposed = 0;
@@ -387,7 +387,7 @@ void face_manifold(const PlacedPiece& reference, const PlacedPiece& incident, st
     // Clipped a little outside the side (the margin): a vertex of an equal brick stacked on
     // another stays a vertex, with the same feature from step to step (for warm starting),
     // instead of becoming a crossing of edges whenever the bricks turn by a hair.
-    clip(polygon, outward, outward.dot(p) + margin_m, static_cast<std::uint32_t>(k), clipped);
+    clip(polygon, outward, outward.dot(p) + side_margin_m, static_cast<std::uint32_t>(k), clipped);
     std::swap(polygon, clipped);
   }
   out.normal = reference_is_b ? Vec3(-n) : n;
@@ -401,7 +401,7 @@ void face_manifold(const PlacedPiece& reference, const PlacedPiece& incident, st
 }  // namespace
 
 bool collide(const PlacedPiece& a, const PlacedPiece& b, double margin_m,
-             std::uint32_t feature_base, Manifold& out) {
+             std::uint32_t feature_base, Manifold& out, bool all_points, double side_margin_m) {
   out.points.clear();
   if ((a.min.array() > b.max.array() + margin_m).any() ||
       (b.min.array() > a.max.array() + margin_m).any())
@@ -463,8 +463,8 @@ bool collide(const PlacedPiece& a, const PlacedPiece& b, double margin_m,
   // sides of the reference face, its points within the margin of the reference plane.
   if (!edge_axis)
     face_manifold(reference_is_b ? b : a, reference_is_b ? a : b, reference_face, reference_is_b,
-                  margin_m, feature_base, out);
-  if (out.points.size() > 4) {
+                  margin_m, side_margin_m < 0.0 ? margin_m : side_margin_m, feature_base, out);
+  if (out.points.size() > 4 && !all_points) {
     // Four points carry a face contact: the extremes along two directions across the normal
     // (a brick on two others has eight within the margin; the solve costs per point).
     // (Skewed from the plane's axes, so a rectangle's four corners are four distinct extremes.)

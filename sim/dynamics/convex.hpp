@@ -71,8 +71,12 @@ struct Manifold {
 
 // The contact points of pieces a and b if they are within `margin_m` of each other (written to
 // `out`, replacing what it held); returns whether they touch. `feature_base` tags the points
-// of this pair of pieces (a multiple of 256).
+// of this pair of pieces (a multiple of 256). A face contact of more than four points is cut
+// to four (extremes across the normal) unless `all_points` (the caller then cuts them itself,
+// after filtering them). A face contact is clipped `side_margin_m` outside the reference
+// face's sides (negative: `margin_m`).
 bool collide(const PlacedPiece& a, const PlacedPiece& b, double margin_m,
-             std::uint32_t feature_base, Manifold& out);
+             std::uint32_t feature_base, Manifold& out, bool all_points = false,
+             double side_margin_m = -1.0);
 
 }  // namespace brisance::dynamics

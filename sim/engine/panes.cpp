@@ -7,8 +7,10 @@
 #include "sim/blast/blast_point.hpp"
 #include "sim/engine/pane_pattern.hpp"
 #include "sim/fracture/fragments.hpp"
+#include "sim/fracture/nucleation.hpp"
 #include "sim/fracture/pane.hpp"
 #include "sim/geometry/polygon.hpp"
+#include "sim/response/plate.hpp"
 #include "sim/response/sdof.hpp"
 
 namespace brisance::engine {
@@ -76,6 +78,51 @@ PaneLoad pane_load_at(const Vec3& centre, const Vec3& normal,
 
 namespace {
 
+// Where the pane's cracks start (issue 11): the point of the largest bending stress of the
+// simply supported plate under the peak pressures over its face (fracture::
+// largest_bending_stress), in pane coordinates from its lower-left corner. The pressures are
+// sampled at the centres of kSamples x kSamples cells, each point taking the largest peak of the
+// charges (as the pane's static load takes the largest peak), and summed to kTerms x kTerms sine
+// terms. A face loaded alike everywhere (to 1e-9) cracks from its centre without the search.
+Vec2 crack_origin(const scene::ObjectSpec& object, const Eigen::Quaterniond& q,
+                  const std::vector<ChargeModel>& charges, const blast::PanelLoadOptions& options) {
+  constexpr int kSamples = 32;
+  constexpr int kTerms = 15;
+  constexpr int kEvaluationCells = 16;
+  const double width = object.box_size_m.x();
+  const double height = object.box_size_m.y();
+  const Vec2 centre(0.5 * width, 0.5 * height);
+  const Vec3 normal = q * Vec3::UnitZ();
+  const double dx = width / kSamples;
+  const double dy = height / kSamples;
+  std::vector<fracture::PointForce> forces;
+  forces.reserve(kSamples * kSamples);
+  double lowest = INFINITY;
+  double highest = 0.0;
+  for (int i = 0; i < kSamples; ++i) {
+    for (int j = 0; j < kSamples; ++j) {
+      const Vec2 p((i + 0.5) * dx, (j + 0.5) * dy);
+      const Vec3 world = object.position + q * Vec3(p.x() - centre.x(), p.y() - centre.y(), 0.0);
+      double pressure = 0.0;
+      for (const ChargeModel& c : charges) {
+        const Vec3 d = world - c.position;
+        const double distance = std::max(d.norm(), 1e-3);
+        const double cos_incidence = std::min(1.0, std::abs(normal.dot(d)) / distance);
+        pressure = std::max(
+            pressure, pane_face_load(c.charge, distance, cos_incidence, options).peak_pressure_pa);
+      }
+      lowest = std::min(lowest, pressure);
+      highest = std::max(highest, pressure);
+      forces.push_back({p, pressure * dx * dy});
+    }
+  }
+  if (!(highest > 0.0) || highest - lowest <= 1e-9 * highest) return centre;
+  return fracture::largest_bending_stress(width, height, object.box_size_m.z(),
+                                          response::PlateSpec{}.poissons_ratio, forces, kTerms,
+                                          kEvaluationCells)
+      .point_m;
+}
+
 double earliest_arrival_s(const Vec3& point, const std::vector<ChargeModel>& charges) {
   double earliest = INFINITY;
   for (const ChargeModel& c : charges)
@@ -110,10 +157,10 @@ double perimeter(const geometry::Polygon& polygon) {
   return length;
 }
 
-// Panels of both faces (front +z, its mirror on the back −z) with clearing distance S, and the
-// faces plus side walls for the flight-drag shape. Polygon in the pane's centred frame.
 constexpr double kOnePanelSize_m = 0.02;
 
+// Panels of both faces (front +z, its mirror on the back −z) with clearing distance S, and the
+// faces plus side walls for the flight-drag shape. Polygon in the pane's centred frame.
 void fragment_panels(const geometry::Polygon& polygon, double thickness, double pane_half_size,
                      bool own_clearing, BodySource& body) {
   // A fragment that fits in kOnePanelSize_m takes its load on one panel a face (docs/fracture.md,
@@ -207,7 +254,11 @@ PaneReport break_pane(const scene::ObjectSpec& object, std::size_t index,
   report.growth_length_m = pattern_plan.growth_length_m;
   report.growth_length_given = pattern_plan.growth_length_given;
   report.growth_length_clamped = pattern_plan.growth_length_clamped;
-  const fracture::FractureParams& params = pattern_plan.params;
+  fracture::FractureParams params = pattern_plan.params;
+  if (params.initial.centres_m.empty())
+    params.initial.centres_m.push_back(crack_origin(object, q, charges, options));
+  report.crack_origin_m = {params.initial.centres_m.front().x(),
+                           params.initial.centres_m.front().y()};
   assert(!fracture::validate(params));  // the scene's fracture spec was validated
   checkpoint.poll();
   const fracture::FracturePattern pattern = fracture::fracture(params, checkpoint.stop_request());
@@ -248,8 +299,9 @@ PaneReport break_pane(const scene::ObjectSpec& object, std::size_t index,
         load.history.impulse_pa_s(0.0, response.plate.break_time_s) / (density * thickness);
   }
   // Fracture runs with the wave: the cracks start where and when the stress first reaches the
-  // strength — at the pattern's nucleation points (the pane's centre, where a uniformly loaded
-  // plate's stress peaks), at the dynamic plate's break time (the first arrival for the static
+  // strength — at the pattern's nucleation point (crack_origin: where the plate's stress peaks
+  // under the face's peak pressures; the centre for a uniform load), at the dynamic plate's
+  // break time (the first arrival for the static
   // model or a forced break) — and run out at the terminal crack speed of glass. A fragment is
   // free only once the front has passed all of its outline (its cracks have closed around it).
   std::vector<Vec2> nuclei = params.initial.centres_m;

@@ -80,6 +80,25 @@ struct Distribution {
   double max = 0.0;
 };
 
+// Where a pane's glass went in the test room behind it, and the glazing performance condition
+// that follows (GSA P100 table 8-1; sim/engine/hazard.hpp). The room's floor is the ground, or
+// y = 0 without one, but never above the pane's lowest corner; its witness panel stands 10 ft
+// (3.048 m) behind the pane's inner face.
+struct PaneHazard {
+  std::string condition = "1";            // "1", "2", "3a", "3b", "4" or "5"
+  std::string protection_level = "safe";  // safe, very_high, high, medium, low
+  std::string hazard_level = "none";      // none, very_low, low, medium, high
+  double floor_height_m = 0.0;            // the room's floor, world y
+  std::uint64_t fragments_in_room = 0;    // released fragments that went in behind the pane
+  std::uint64_t fragments_outside = 0;    // released fragments thrown out toward the blast
+  std::uint64_t fragments_on_floor = 0;   // of those in the room, landed before the panel
+  std::uint64_t witness_impacts = 0;      // of those in the room, reached the witness panel
+  // Followed past the run's end on a ballistic path (still in flight when it ended).
+  std::uint64_t fragments_extrapolated = 0;
+  double max_floor_distance_m = 0.0;  // furthest landing behind the pane's inner face
+  double max_witness_height_m = 0.0;  // highest witness impact above the floor
+};
+
 // One breakable pane: the blast coupling (DESIGN.md decision 9) and its fragments.
 struct PaneReport {
   std::string name;  // the pane object's name; its fragments are "<name>/f<k>"
@@ -111,6 +130,10 @@ struct PaneReport {
   // pane's centre at fracture::kTerminalCrackSpeed_m_s, and no fragment is free before the front
   // has passed all of its outline.
   double cracks_start_s = -1.0;
+  // Where they start, m, in the pane's own x and y from its lower-left corner: the largest
+  // bending stress of the simply supported plate under the peak pressures over its face
+  // (sim/fracture/nucleation); the centre for a uniform load. [0, 0] if unbroken.
+  std::array<double, 2> crack_origin_m{};
   std::uint64_t released = 0;
   // Per fragment, in body order: when it broke free (s), or a negative value if it never did
   // (held by the frame or the crack interlock; such fragments stay in place, static).
@@ -119,6 +142,7 @@ struct PaneReport {
   // Empirical window-glass fragments at the same peak pressure (thesis eqs. 2.45, 2.46).
   double empirical_mean_area_m2 = 0.0;
   double empirical_mean_speed_m_s = 0.0;
+  PaneHazard hazard;  // filled once the run is over
 };
 
 // A counted warning: numerical trouble or input at the edge of the model, never silent.

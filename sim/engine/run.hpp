@@ -26,6 +26,32 @@ struct ActiveLoad {
   blast::PressureHistory history;  // net translatory pressure, Pa, time since arrival
 };
 
+// A contact's place in the solve: by island, then bottom up (collide.cpp); sorted on these
+// packed keys, the comparisons read no contact.
+struct ContactOrder {
+  std::uint32_t island;
+  double height;  // of the point, m
+  std::uint64_t key;
+  std::uint32_t index;
+};
+
+// The narrowphase of a pair of bodies, kept while their relative pose barely changes
+// (collide.cpp): the pose of b in a's frame it was found at, the margin it was found with, and
+// its points (first, count) in RunState::cached_points.
+struct PairCache {
+  std::uint64_t key;             // contact_key(a, b, 0)
+  Vec3 relative_position;        // b's centre of mass in a's frame, m
+  dynamics::Quat relative_turn;  // b's orientation in a's frame
+  double margin_m;
+  std::uint32_t first, count;
+};
+// A cached contact point: where it lies on each body (each body's frame, from its centre of
+// mass, m), the normal in a's frame, and the feature tag.
+struct CachedPoint {
+  Vec3 on_a, on_b, normal_a;
+  std::uint32_t feature;
+};
+
 // Everything that changes while stepping; per body in body order unless said otherwise.
 struct RunState {
   std::vector<dynamics::BodyState> bodies;
@@ -86,9 +112,20 @@ struct RunState {
   std::vector<std::pair<std::uint32_t, std::uint32_t>> pairs;
   std::vector<double> margin;
   std::vector<std::uint32_t> island_parent;  // union-find over the solve's bodies
+  std::vector<std::int32_t> solver_index;    // per body: its solver body, or -1
+  std::vector<dynamics::SolverBody> solver, solver_before;
+  std::vector<std::uint32_t> solver_body;  // per solver body: the body
+  std::vector<std::uint32_t> contact_island;
+  std::vector<ContactOrder> contact_order;
+  std::vector<double> pushed;
+  dynamics::PairSolveBuffers solve_buffers;
+  // Last step's and this step's narrowphase by pair, sorted by key (pairs come sorted).
+  std::vector<PairCache> pair_cache, next_pair_cache;
+  std::vector<CachedPoint> cached_points, next_cached_points;
   // `auto`: pairs of a fragment and an anchored body (its frame) meeting at the start.
   std::unordered_set<std::uint64_t> start_neighbours;
-  std::unordered_set<std::uint64_t> touching_pairs, next_touching_pairs;  // contact_key(a, b, 0)
+  // Pairs pressed together (contact_key(a, b, 0)), sorted: last step's and this step's.
+  std::vector<std::uint64_t> touching_pairs, next_touching_pairs;
   // Step-size limits gathered while integrating, used for the next step.
   double max_angular_speed_rad_s = 0.0;
   double min_contact_time_s = INFINITY;

@@ -9,6 +9,7 @@
 #include <cstddef>
 #include <utility>
 
+#include "sim/engine/hazard.hpp"
 #include "sim/engine/interrupt.hpp"
 #include "sim/engine/model.hpp"
 #include "sim/engine/run.hpp"
@@ -162,7 +163,10 @@ RunOutcome simulate(const scene::Scene& scene, const RunHooks& hooks, const RunB
   Run run(model, result, warnings);
   outcome.cancelled = !run.execute(hooks);
   outcome.times.stepping_s = seconds_since(stepping_start);
-  if (!outcome.cancelled) report_fragments(sources.bodies, run.state(), result.fracture);
+  if (!outcome.cancelled) {
+    report_fragments(sources.bodies, run.state(), result.fracture);
+    rate_pane_hazards(scene, result);
+  }
   result.warnings = warnings.list();
   result.stats.wall_time_s =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

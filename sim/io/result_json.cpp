@@ -138,6 +138,20 @@ json distribution_to_json(const engine::Distribution& d) {
               {"p50", d.p50},     {"p90", d.p90},   {"max", d.max}};
 }
 
+json hazard_to_json(const engine::PaneHazard& h) {
+  return json{{"condition", h.condition},
+              {"protection_level", h.protection_level},
+              {"hazard_level", h.hazard_level},
+              {"floor_height_m", h.floor_height_m},
+              {"fragments_in_room", h.fragments_in_room},
+              {"fragments_outside", h.fragments_outside},
+              {"fragments_on_floor", h.fragments_on_floor},
+              {"witness_impacts", h.witness_impacts},
+              {"fragments_extrapolated", h.fragments_extrapolated},
+              {"max_floor_distance_m", h.max_floor_distance_m},
+              {"max_witness_height_m", h.max_witness_height_m}};
+}
+
 json pane_to_json(const engine::PaneReport& pane) {
   // Never-released fragments are null in release_times_s.
   json release_times = json::array();
@@ -163,11 +177,13 @@ json pane_to_json(const engine::PaneReport& pane) {
               {"launch_speed_smaller_half_m_s", pane.launch_speed_smaller_half_m_s},
               {"launch_speed_mass_weighted_m_s", pane.launch_speed_mass_weighted_m_s},
               {"cracks_start_s", pane.cracks_start_s},
+              {"crack_origin_m", pane.crack_origin_m},
               {"released", pane.released},
               {"release_times_s", std::move(release_times)},
               {"release_time_s", distribution_to_json(pane.release_time_s)},
               {"empirical_mean_area_m2", pane.empirical_mean_area_m2},
-              {"empirical_mean_speed_m_s", pane.empirical_mean_speed_m_s}};
+              {"empirical_mean_speed_m_s", pane.empirical_mean_speed_m_s},
+              {"hazard", hazard_to_json(pane.hazard)}};
 }
 
 json shielding_to_json(const engine::Result& result) {

@@ -112,6 +112,36 @@ TEST_F(RunCommand, JsonFramesHaveTheHttpShape) {
   }
 }
 
+TEST_F(RunCommand, EachPaneGetsALineWithItsHazard) {
+  // A framed 1.2 x 0.9 m window 1.5 m up with 10 kg of TNT 10 m in front (scenes/window.json,
+  // 0.5 s): its glass crosses the room, GSA condition 5; the same pane 200 m away stays whole.
+  json scene = {
+      {"charges", {{{"position", {0, 1.5, 10}}, {"mass", 10}}}},
+      {"environment", {{"ground", nullptr}}},
+      {"generators",
+       {{{"type", "window"}, {"name", "near"}, {"position", {0, 1.5, 0}}, {"size", {1.2, 0.9}}},
+        {{"type", "window"}, {"name", "far"}, {"position", {0, 1.5, -190}}, {"size", {1.2, 0.9}}}}},
+      {"simulation", {{"duration", 0.5}}}};
+  std::ofstream(scene_path_) << scene.dump();
+  const std::string path = temp_path("window.json");
+  written_.push_back(path);
+  std::ostringstream out;
+  ASSERT_EQ(run_simulation({scene_path_, "-o", path}, out), kExitOk);
+  const json result = json::parse(read(path));
+  const json& near = result.at("fracture").at(0);
+  ASSERT_EQ(near.at("name"), "near/pane");
+  EXPECT_NE(out.str().find(
+                "  pane near/pane: " + std::to_string(near.at("fragment_count").get<int>()) +
+                " fragments, " + std::to_string(near.at("released").get<int>()) + " released, " +
+                std::to_string(near.at("hazard").at("fragments_in_room").get<int>()) +
+                " into the room behind it; GSA P100 condition 5 (hazard high)\n"),
+            std::string::npos)
+      << out.str();
+  EXPECT_NE(out.str().find("  pane far/pane: not broken; GSA P100 condition 1 (hazard none)\n"),
+            std::string::npos)
+      << out.str();
+}
+
 TEST_F(RunCommand, FrameVelocitiesAreCentralDifferencesOfThePoses) {
   const std::string path = temp_path("moving.json");
   written_.push_back(path);

@@ -364,6 +364,8 @@ try {
     const fracture = await page.textContent("#job-fracture");
     check(/Broke\s*yes/.test(fracture), `the fracture report does not say the pane broke: ${fracture.slice(0, 200)}`);
     check(/eq\. 2\.45/.test(fracture), "the fracture report lacks the empirical area");
+    // 10 kg at 10 m throws the glass across the 3 m room above 2 ft: GSA condition 5.
+    check(/condition 5: high hazard/.test(fracture), `the fracture report lacks the hazard rating: ${fracture.slice(0, 400)}`);
     await page.locator('#plot-body-pulse path[data-name="reflected (head-on)"]').waitFor({ timeout: 30_000 });
     const pulse = await page.textContent("#job-pulse");
     check(/from charge 0/.test(pulse) && /Reflected P_r/.test(pulse), `pulse section: ${pulse.slice(0, 200)}`);

@@ -1121,8 +1121,13 @@ export interface components {
             launch_speed_smaller_half_m_s: number;
             /** @description The released fragments' launch speeds weighted by mass (their momentum over their mass); 0 if none was released. */
             launch_speed_mass_weighted_m_s: number;
-            /** @description When the pane's cracks start (its stress first reaches its strength), s after detonation; -1 if it did not break. They run out from its centre at the terminal crack speed of glass (1 500 m/s), and no fragment is free before the front has passed all of its outline. */
+            /** @description When the pane's cracks start (its stress first reaches its strength), s after detonation; -1 if it did not break. They run out from `crack_origin_m` at the terminal crack speed of glass (1 500 m/s), and no fragment is free before the front has passed all of its outline. */
             cracks_start_s: number;
+            /** @description Where the cracks start, m, in the pane's own x (width) and y (height) from its lower-left corner - the largest bending stress of the simply supported plate under the peak pressures over its face (Navier's series); the centre for a uniform load; [0, 0] if it did not break. */
+            crack_origin_m: [
+                number,
+                number
+            ];
             released: number;
             /** @description Per fragment, when it broke free (s), or null if it never did. */
             release_times_s: (number | null)[];
@@ -1131,6 +1136,43 @@ export interface components {
             empirical_mean_area_m2: number;
             /** @description Thesis eq. 2.46 at the pane's peak pressure and thickness. */
             empirical_mean_speed_m_s: number;
+            hazard: components["schemas"]["PaneHazard"];
+        };
+        /**
+         * @description How dangerous the pane's glass is to the room behind it (docs/fracture.md, "Hazard
+         *     rating"): the glazing performance condition of GSA P100 table 8-1 from where its released
+         *     fragments land on the room's floor or strike a vertical witness panel 10 ft (3.048 m)
+         *     behind the pane. Condition 1 (safe): the glass does not break; 2 (very high protection,
+         *     no hazard): it breaks and no fragment enters the room; 3a (high, very low hazard):
+         *     fragments land no further than 3.3 ft (1 m); 3b (high, low hazard): no further than
+         *     10 ft; 4 (medium, medium hazard): fragments strike the witness panel no higher than 2 ft
+         *     (0.61 m) above the floor; 5 (low, high hazard): higher than 2 ft. The room's floor is the
+         *     ground, or y = 0 without one, but never above the pane's lowest corner; the room lies
+         *     behind the pane's sheltered face, or away from the charge that loads it hardest.
+         */
+        PaneHazard: {
+            /** @enum {string} */
+            condition: "1" | "2" | "3a" | "3b" | "4" | "5";
+            /** @enum {string} */
+            protection_level: "safe" | "very_high" | "high" | "medium" | "low";
+            /** @enum {string} */
+            hazard_level: "none" | "very_low" | "low" | "medium" | "high";
+            /** @description The room's floor, world y (m). */
+            floor_height_m: number;
+            /** @description Released fragments that went in past the pane's inner face. */
+            fragments_in_room: number;
+            /** @description Released fragments thrown out toward the blast or dropped at the window. */
+            fragments_outside: number;
+            /** @description Of those in the room, the ones that landed before reaching the witness panel. */
+            fragments_on_floor: number;
+            /** @description Of those in the room, the ones that reached the witness panel. */
+            witness_impacts: number;
+            /** @description Fragments still in flight when the run ended, followed on a ballistic path without drag. */
+            fragments_extrapolated: number;
+            /** @description The furthest a fragment lay on the floor behind the pane's inner face (m). */
+            max_floor_distance_m: number;
+            /** @description The highest a fragment struck the witness panel above the floor (m). */
+            max_witness_height_m: number;
         };
         Pose: {
             /** @description The body index. */

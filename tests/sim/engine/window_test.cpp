@@ -2,6 +2,7 @@
 // whether a pane breaks and at what scale, fragments break free as the wave reaches them, and the
 // window scenes behave as the thesis describes.
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <fstream>
 #include <numeric>
@@ -23,6 +24,7 @@
 namespace brisance::engine {
 namespace {
 
+using Vec2 = Eigen::Vector2d;
 using Vec3 = Eigen::Vector3d;
 
 scene::Scene load(const std::string& name) {
@@ -204,8 +206,9 @@ TEST(PaneCoupling, FragmentMassesSumToThePanesAndPanelsAreFive) {
 TEST(PaneCoupling, FragmentsBreakFreeAsTheWaveSweepsThePane) {
   // A charge off to the side: the wave reaches the near edge first, but a piece is free only
   // when its load has beaten its hold, the wave has reached its centroid and the crack front —
-  // from the pane's centre at the terminal crack speed, from when the stress reaches the
-  // strength (issue 11: fracture runs with the wave) — has passed all of its outline.
+  // from where the plate's stress peaks, at the terminal crack speed, from when the stress
+  // reaches the strength (issue 11: fracture runs with the wave) — has passed all of its
+  // outline. The charge 4 m to the side of the pane's centre (+x) pulls that point toward it.
   scene::Scene s = pane_scene(10.0, Vec3(4.0, 1.5, 8.0));
   s.objects[0].fracture->framed = true;
   const Result r = simulate(s).result;
@@ -213,9 +216,14 @@ TEST(PaneCoupling, FragmentsBreakFreeAsTheWaveSweepsThePane) {
   ASSERT_TRUE(pane.broken);
   ASSERT_GT(pane.released, 20u);
   ASSERT_GT(pane.cracks_start_s, 0.0);
+  // The pane is 1.2 x 0.9 m; its cracks start right of its centre, on its horizontal mid-line.
+  EXPECT_GT(pane.crack_origin_m[0], 0.6 + 1e-3);
+  EXPECT_LT(pane.crack_origin_m[0], 1.2);
+  EXPECT_NEAR(pane.crack_origin_m[1], 0.45, 0.01);
+  const Vec3 origin(pane.crack_origin_m[0] - 0.6, pane.crack_origin_m[1] - 0.45, 0.0);
   blast::Charge charge;
   charge.tnt_equivalent_kg = 10.0;
-  std::vector<std::pair<double, double>> by_outline;  // farthest outline from the centre, release
+  std::vector<std::pair<double, double>> by_outline;  // farthest outline from the origin, release
   std::size_t held_by_front = 0;
   for (std::size_t k = 0; k < pane.fragment_count; ++k) {
     const double release = pane.release_times_s[k];
@@ -232,14 +240,14 @@ TEST(PaneCoupling, FragmentsBreakFreeAsTheWaveSweepsThePane) {
     EXPECT_GE(release, arrival - 1e-12) << body.name;
     double outline = 0.0;  // the mesh is in the pane's frame, centred on the pane
     for (const Vec3& v : body.mesh.vertices)
-      outline = std::max(outline, std::hypot(v.x(), v.y()));
+      outline = std::max(outline, std::hypot(v.x() - origin.x(), v.y() - origin.y()));
     const double front = pane.cracks_start_s + outline / fracture::kTerminalCrackSpeed_m_s;
     EXPECT_GE(release, front - 1e-12) << body.name;
     if (release > arrival + 1e-5) ++held_by_front;
     by_outline.emplace_back(outline, release);
   }
   EXPECT_GT(held_by_front, 0u);
-  // The front sweeps out from the centre: pieces reaching farther from it go later.
+  // The front sweeps out from its origin: pieces reaching farther from it go later.
   std::sort(by_outline.begin(), by_outline.end());
   const std::size_t half = by_outline.size() / 2;
   double inner = 0.0, outer = 0.0;
@@ -252,6 +260,24 @@ TEST(PaneCoupling, FragmentsBreakFreeAsTheWaveSweepsThePane) {
   EXPECT_LT(pane.released, pane.fragment_count);
   EXPECT_EQ(r.stats.fragments_held_by_frame, pane.fragment_count - pane.released);
   EXPECT_GE(r.stats.bodies_never_released, r.stats.fragments_held_by_frame);
+}
+
+TEST(PaneCoupling, ACloseChargeOffCentreStartsTheCracksTowardItsFoot) {
+  // 0.5 kg of TNT 0.5 m in front of a point 0.4 m right of and 0.2 m above the pane's centre:
+  // the plate's stress peaks between the centre and the charge's foot (pane coordinates
+  // (1.0, 0.65)), held back from the foot by the supported edge 0.2 m beyond it. A charge
+  // straight in front leaves the origin at the centre.
+  const Result off = simulate(pane_scene(0.5, Vec3(0.4, 1.7, 0.5))).result;
+  ASSERT_TRUE(off.fracture[0].broken);
+  const Vec2 origin(off.fracture[0].crack_origin_m[0], off.fracture[0].crack_origin_m[1]);
+  const Vec2 foot(1.0, 0.65);
+  const Vec2 centre(0.6, 0.45);
+  EXPECT_GT(origin.x(), centre.x() + 0.1);
+  EXPECT_GT(origin.y(), centre.y() + 0.05);
+  EXPECT_LT((origin - foot).norm(), 0.5 * (centre - foot).norm());
+  const Result ahead = simulate(pane_scene(0.5, Vec3(0.0, 1.5, 0.5))).result;
+  ASSERT_TRUE(ahead.fracture[0].broken);
+  EXPECT_EQ(ahead.fracture[0].crack_origin_m, (std::array<double, 2>{0.6, 0.45}));
 }
 
 TEST(PaneCoupling, DeterministicFragmentsAndFrames) {

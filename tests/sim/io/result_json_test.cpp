@@ -101,6 +101,7 @@ engine::Result synthetic_result() {
   pane.launch_speed_larger_half_m_s = 3;
   pane.launch_speed_mass_weighted_m_s = 2.5;
   pane.cracks_start_s = 0.0125;
+  pane.crack_origin_m = {0.75, 0.5};
   pane.released = 1;
   pane.release_times_s = {0.0173, -1.0};
   pane.release_time_s = {.count = 1,
@@ -112,6 +113,13 @@ engine::Result synthetic_result() {
                          .max = 0.0173};
   pane.empirical_mean_area_m2 = 1.9e-5;
   pane.empirical_mean_speed_m_s = 46.3;
+  pane.hazard.condition = "3b";
+  pane.hazard.protection_level = "high";
+  pane.hazard.hazard_level = "low";
+  pane.hazard.floor_height_m = -0.5;
+  pane.hazard.fragments_in_room = 1;
+  pane.hazard.fragments_on_floor = 1;
+  pane.hazard.max_floor_distance_m = 2.25;
   result.fracture.push_back(pane);
   return result;
 }
@@ -266,7 +274,7 @@ TEST(ResultJson, FractureHoldsEveryPaneField) {
   const json fracture = round_trip(synthetic_result())["fracture"];
   ASSERT_EQ(fracture.size(), 1u);
   const json& pane = fracture[0];
-  EXPECT_EQ(pane.size(), 25u) << pane.dump();
+  EXPECT_EQ(pane.size(), 27u) << pane.dump();
   EXPECT_EQ(pane["name"], "window/pane");
   EXPECT_EQ(pane["broken"], true);
   EXPECT_EQ(pane["forced"], false);
@@ -292,6 +300,7 @@ TEST(ResultJson, FractureHoldsEveryPaneField) {
   EXPECT_EQ(pane["launch_speed_larger_half_m_s"], 3.0);
   EXPECT_EQ(pane["launch_speed_mass_weighted_m_s"], 2.5);
   EXPECT_EQ(pane["cracks_start_s"], 0.0125);
+  EXPECT_EQ(pane["crack_origin_m"], json::array({0.75, 0.5}));
   EXPECT_EQ(pane["launch_speed_smaller_half_m_s"], 0.0);
   EXPECT_EQ(pane["released"], 1);
   // A fragment that never broke free is null.
@@ -299,6 +308,17 @@ TEST(ResultJson, FractureHoldsEveryPaneField) {
   EXPECT_EQ(pane["release_time_s"]["max"], 0.0173);
   EXPECT_EQ(pane["empirical_mean_area_m2"], 1.9e-5);
   EXPECT_EQ(pane["empirical_mean_speed_m_s"], 46.3);
+  EXPECT_EQ(pane["hazard"], (json{{"condition", "3b"},
+                                  {"protection_level", "high"},
+                                  {"hazard_level", "low"},
+                                  {"floor_height_m", -0.5},
+                                  {"fragments_in_room", 1},
+                                  {"fragments_outside", 0},
+                                  {"fragments_on_floor", 1},
+                                  {"witness_impacts", 0},
+                                  {"fragments_extrapolated", 0},
+                                  {"max_floor_distance_m", 2.25},
+                                  {"max_witness_height_m", 0.0}}));
   EXPECT_EQ(round_trip(engine::Result{})["fracture"], json::array());
 }
 

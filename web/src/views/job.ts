@@ -55,6 +55,20 @@ function shieldingSection(result: ResultSummary): HTMLElement | null {
 
 type PaneFracture = NonNullable<ResultSummary["fracture"]>[number];
 
+const words = (level: string) => level.replace("_", " ");
+
+// Where the released fragments of a pane went in the test room behind it (docs/fracture.md,
+// "Hazard rating").
+function glassInRoom(hazard: PaneFracture["hazard"]): string {
+  if (hazard.fragments_in_room === 0) return "none";
+  const parts: string[] = [];
+  if (hazard.fragments_on_floor > 0)
+    parts.push(`${hazard.fragments_on_floor} on the floor (furthest ${num(hazard.max_floor_distance_m, 3)} m)`);
+  if (hazard.witness_impacts > 0)
+    parts.push(`${hazard.witness_impacts} at the witness panel (highest ${num(hazard.max_witness_height_m, 3)} m)`);
+  return `${hazard.fragments_in_room}: ${parts.join("; ")}`;
+}
+
 // One column per breakable pane (docs/fracture.md): its load, the stress its breakage model
 // gave against its strength, the crack pattern's scale and what its fragments did, beside the
 // empirical glass formulas (thesis eqs. 2.45-2.46) at the same pressure.
@@ -76,6 +90,9 @@ function fractureSection(result: ResultSummary): HTMLElement | null {
       ? `${num(p.launch_speed_m_s.mean, 3)} / ${num(p.empirical_mean_speed_m_s, 3)}` : "–"],
     ["Release time p10–p90 (ms)", (p) => p.broken && p.released > 0
       ? `${num(p.release_time_s.p10 * 1e3, 3)}–${num(p.release_time_s.p90 * 1e3, 3)}` : "–"],
+    ["Hazard (GSA P100 table 8-1)", (p) =>
+      `condition ${p.hazard.condition}: ${words(p.hazard.hazard_level)} hazard (${words(p.hazard.protection_level)} protection)`],
+    ["Glass in the room (witness panel at 3.05 m)", (p) => p.broken ? glassInRoom(p.hazard) : "–"],
   ];
   return h("section", { id: "job-fracture" },
     h("h2", null, "Fracture"),

@@ -109,6 +109,39 @@ RunSize run_size(const scene::Scene& scene) {
   return size;
 }
 
+TEST(BudgetEstimate, ATemperedPaneIsCountedAsItsDice) {
+  // A 3 x 2 m tempered pane breaks into about 134 000 dice (6.7 mm): past the default
+  // max_fragments (100 000), refused at submission, and the run stops for the same limit. At
+  // 1.2 x 0.9 m (24 165 dice) it is accepted, and the estimate's count is the run's.
+  const auto tempered = [](double w, double h) {
+    return parse(R"({"charges": [{"position": [0, 1.5, 5], "mass": 10}],
+                     "environment": {"ground": null},
+                     "objects": [{"name": "pane", "shape": {"type": "box", "size": [)" +
+                 std::to_string(w) + ", " + std::to_string(h) +
+                 R"(, 0.006]}, "position": [0, 1.5, 0], "material": "tempered_glass",
+                     "fracture": {"break": "always"}}],
+                     "simulation": {"duration": 0.05, "frame_rate": 30}})");
+  };
+  const RunBudget budget = service_budget();
+  const std::optional<BudgetRefusal> refusal = refuse_before_run(tempered(3.0, 2.0), budget);
+  ASSERT_TRUE(refusal.has_value());
+  EXPECT_EQ(refusal->what.kind, OverBudget::Kind::limit);
+  EXPECT_NE(refusal->what.message.find("max_fragments"), std::string::npos)
+      << refusal->what.message;
+  const RunOutcome run = simulate(tempered(3.0, 2.0), {}, budget);
+  ASSERT_TRUE(run.over_budget.has_value());
+  EXPECT_NE(run.over_budget->message.find("max_fragments"), std::string::npos);
+
+  const scene::Scene window = tempered(1.2, 0.9);
+  EXPECT_FALSE(refuse_before_run(window, budget).has_value());
+  RunBudget exact = budget;
+  exact.limits.max_fragments = run_size(window).fragments;
+  EXPECT_EQ(exact.limits.max_fragments, 24165u);
+  EXPECT_FALSE(refuse_before_run(window, exact).has_value());
+  exact.limits.max_fragments -= 1;
+  EXPECT_TRUE(refuse_before_run(window, exact).has_value());  // the dice are counted exactly
+}
+
 // Every example scene (and the pane variants of the golden set, and a few fine panes) with every
 // limit and the memory budget set to exactly what its run creates: the run takes it, so the
 // estimate must too. And each is accepted under the service's own limits.

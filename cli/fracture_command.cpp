@@ -31,14 +31,15 @@ constexpr std::string_view kHelp =
     "                         -o pattern.svg|pattern.json\n"
     "\n"
     "Grows the crack pattern a job grows for a breakable pane and writes the fragments it cuts\n"
-    "the pane into. Every default is the scene's 'fracture' default (annealed glass,\n"
-    "docs/fracture.md), so the same pane, pressure and seed give the job's pattern.\n"
+    "the pane into. Every default is the scene's 'fracture' default (annealed glass:\n"
+    "radial cracks from the centre and rings, docs/fracture.md), so the same pane,\n"
+    "pressure and seed give the job's pattern.\n"
     "  --width W, --height H    pane size in m (> 0)\n"
     "  --thickness T            pane thickness, m (default 0.006)\n"
     "  --pressure-kpa P         peak pressure on the pane, kPa (a job's fracture report gives "
     "it):\n"
-    "                           the growth length follows from the pane's stress (thesis eq. "
-    "5.5);\n"
+    "                           the radial cracks follow from the pane's stress, the rings\n"
+    "                           from the pressure;\n"
     "                           default: the pressure that just breaks the pane (coarsest "
     "pattern)\n"
     "  --duration-ms D          positive duration of the reflected pulse, ms: the dynamic plate\n"
@@ -55,7 +56,8 @@ constexpr std::string_view kHelp =
     "                           edges (S = half its shorter side, C_D 1) over 3 S / U\n"
     "  --breakage MODEL         dynamic (default: large-deflection plate SDOF under the pulse) or\n"
     "                           static (Roark's small-deflection stress under the peak pressure)\n"
-    "  --growth-length A_C      crack growth between forks, m, instead (fracture.growth_length)\n"
+    "  --growth-length A_C      grow the thesis's crack tree with this growth between forks,\n"
+    "                           m, instead (fracture.growth_length)\n"
     "  --branch-angle-deg A     angle between the two branches of a fork (default 25)\n"
     "  --angle-variance-deg V   forks open A +- V/2, uniform (default 34.5)\n"
     "  --wiggle-prob P          chance that a tip turns at each new piece, 0..1 (default 0.3)\n"
@@ -251,6 +253,16 @@ nlohmann::ordered_json to_json(const Plan& plan, const fracture::FracturePattern
   out["angle_variance_deg"] = p.angle_variance_deg;
   out["wiggle_prob"] = p.wiggle_probability;
   out["wiggle_deg"] = p.wiggle_variance_deg;
+  using Kind = fracture::FractureParams::Kind;
+  out["pattern"] = p.kind == Kind::radial_ring ? "radial_ring"
+                   : p.kind == Kind::dice      ? "dice"
+                                               : "crack_tree";
+  if (p.kind == Kind::radial_ring) {
+    out["radial_cracks"] = p.radial.count;
+    out["ring_radii"] = p.radial.ring_radii_m;
+  } else if (p.kind == Kind::dice) {
+    out["dice_cell"] = p.dice_cell_m;
+  }
   nlohmann::ordered_json fragments = nlohmann::ordered_json::array();
   for (const fracture::Fragment& f : pattern.fragments) {
     nlohmann::ordered_json polygon = nlohmann::ordered_json::array();
@@ -328,14 +340,24 @@ int run_fracture(const Args& args, std::ostream& out) {
     file << to_svg(pattern);
   }
   if (!file) throw std::runtime_error("writing '" + path + "' failed");
-  out << text::printf(
-      "%zu fragments written to %s (growth length %.3g m%s; stress %.3g MPa at %.4g kPa%s)\n",
-      pattern.fragments.size(), path.c_str(), plan.pattern.growth_length_m,
-      plan.pattern.growth_length_given     ? ", given"
-      : plan.pattern.growth_length_clamped ? ", clamped"
-                                           : "",
-      plan.pattern.response.plate.stress_pa / 1e6, plan.pressure_pa / 1e3,
-      plan.pressure_given ? "" : ", the pressure that just breaks it");
+  using Kind = fracture::FractureParams::Kind;
+  const fracture::FractureParams& p = plan.pattern.params;
+  std::string what;
+  if (p.kind == Kind::radial_ring)
+    what =
+        text::printf("%d radial cracks%s, %zu rings", p.radial.count,
+                     plan.pattern.radial_capped ? " (capped)" : "", p.radial.ring_radii_m.size());
+  else if (p.kind == Kind::dice)
+    what = text::printf("tempered dice %.3g mm", p.dice_cell_m * 1e3);
+  else
+    what = text::printf("growth length %.3g m%s", plan.pattern.growth_length_m,
+                        plan.pattern.growth_length_given     ? ", given"
+                        : plan.pattern.growth_length_clamped ? ", clamped"
+                                                             : "");
+  out << text::printf("%zu fragments written to %s (%s; stress %.3g MPa at %.4g kPa%s)\n",
+                      pattern.fragments.size(), path.c_str(), what.c_str(),
+                      plan.pattern.response.plate.stress_pa / 1e6, plan.pressure_pa / 1e3,
+                      plan.pressure_given ? "" : ", the pressure that just breaks it");
   return kExitOk;
 }
 

@@ -76,8 +76,9 @@ void BudgetTally::check() const {
     stop(OverBudget::Kind::limit,
          "breaking the scene's panes makes more than " + std::to_string(limits.max_fragments) +
              " fragments (the limit max_fragments); give the panes larger fragments "
-             "(fracture.growth_length or a larger fracture.pattern_scale), a coarser "
-             "fracture.grid, or break fewer panes");
+             "(fracture.growth_length grows the crack tree instead of radial cracks), "
+             "break fewer panes, or use smaller tempered panes (their dice are set by the "
+             "temper)");
   if (panels_ > limits.max_panels)
     stop(OverBudget::Kind::limit,
          "the scene's objects and the fragments of its panes make more than " +

@@ -10,6 +10,7 @@
 #include <optional>
 #include <string>
 
+#include "sim/engine/pane_pattern.hpp"
 #include "sim/scene/scene.hpp"
 
 namespace brisance::engine {
@@ -49,5 +50,10 @@ std::optional<BudgetRefusal> refuse_before_run(const scene::Scene& scene, const 
 // (docs/service.md, "Run size"): 0.1 (width + height) / growth length, at least 1. Measured
 // patterns give 0.22 to 13.9 times (width + height) / growth length.
 std::uint64_t fewest_fragments(double width_m, double height_m, double growth_length_m);
+// The same for a pane's planned pattern (pane_pattern): the crack tree's bound above at its
+// growth length; a tempered pane's dice exactly (their grid); radial cracks and rings half the
+// radial cracks (measured: 1.8 to 40 fragments per radial crack, tests/sim/engine/
+// budget_estimate_test.cpp).
+std::uint64_t fewest_fragments(const PanePattern& pattern, double width_m, double height_m);
 
 }  // namespace brisance::engine

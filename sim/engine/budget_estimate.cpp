@@ -26,6 +26,20 @@ std::uint64_t fewest_fragments(double width_m, double height_m, double growth_le
   return static_cast<std::uint64_t>(std::min(std::floor(estimate), 1e15));
 }
 
+std::uint64_t fewest_fragments(const PanePattern& pattern, double width_m, double height_m) {
+  using Kind = fracture::FractureParams::Kind;
+  if (pattern.kind == Kind::dice) {
+    // dice_pattern's grid: lround(side / cell) cells along each side, at least one.
+    const double cell = pattern.params.dice_cell_m;
+    const double nx = std::max(1.0, std::round(width_m / cell));
+    const double ny = std::max(1.0, std::round(height_m / cell));
+    return static_cast<std::uint64_t>(std::min(nx * ny, 1e15));
+  }
+  if (pattern.kind == Kind::radial_ring)
+    return static_cast<std::uint64_t>(std::max(1, pattern.params.radial.count / 2));
+  return fewest_fragments(width_m, height_m, pattern.growth_length_m);
+}
+
 std::optional<BudgetRefusal> refuse_before_run(const scene::Scene& scene, const RunBudget& budget) {
   BudgetTally tally(budget, scene);
   std::vector<ChargeModel> charges;
@@ -78,16 +92,16 @@ std::optional<BudgetRefusal> refuse_before_run(const scene::Scene& scene, const 
         continue;
       }
       // Its fragments, each no smaller than the least a fragment can be: a triangular prism
-      // (6 vertices, 8 triangles), five load panels on each face, its two faces and three sides
-      // for drag, named "<pane>/f<k>".
+      // (6 vertices, 8 triangles), one load panel on each face (a fragment under 2 cm; larger
+      // ones have 5 to 16), its two faces and three sides for drag, named "<pane>/f<k>".
       BudgetTally::BodySize fragment;
       fragment.vertices = 6;
       fragment.triangles = 8;
-      fragment.load_panels = 10;
+      fragment.load_panels = 2;
       fragment.drag_panels = 5;
       fragment.name_bytes = object.name.size() + 3;
       fragment.fragment = true;
-      tally.add(fragment, fewest_fragments(width, height, pattern.growth_length_m));
+      tally.add(fragment, fewest_fragments(pattern, width, height));
     } catch (RunOverBudget& over) {
       return BudgetRefusal{index, std::move(over.what)};
     }

@@ -60,6 +60,7 @@ struct BodySource {
   geometry::MassProperties unit_mass;        // at 1 kg/m^3, shape frame
   std::vector<geometry::Panel> load_panels;  // shape frame
   std::vector<geometry::Panel> drag_panels;  // for the flight-drag shape; empty: load_panels
+  std::uint32_t panels_merged = 0;           // load panels not made (a small fragment: one a face)
   // A hold that breaks once and for all (a fragment's frame grip and crack interlock), N;
   // none: friction on what the body rests on.
   std::optional<double> breakaway_hold_n;

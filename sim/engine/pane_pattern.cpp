@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "sim/blast/reflection.hpp"
+#include "sim/fracture/patterns.hpp"
 #include "sim/response/plate.hpp"
 
 namespace brisance::engine {
@@ -147,6 +148,29 @@ PanePattern pane_pattern(const scene::FractureSpec& spec, const PaneSize& pane,
   params.wiggle_variance_deg = spec.wiggle_variance_deg;
   params.wiggle_length_m = 0.0;  // = a_c: the whole pattern scales with the growth length
   params.seed = seed;
+
+  // The pattern's kind (docs/fracture.md). Tempered glass falls into dice sized by its temper,
+  // whatever broke it; annealed glass into radial cracks from the centre, as many as the plate's
+  // stress lets branch, and rings where the petals they cut break under the pressure; a scene
+  // that gives the growth length asks for the thesis's crack tree.
+  using Kind = fracture::FractureParams::Kind;
+  if (spec.surface_compression_pa > 0.0) {
+    out.kind = params.kind = Kind::dice;
+    out.dice_cell_m = params.dice_cell_m =
+        fracture::dice_cell_m(spec.surface_compression_pa, spec.fracture_toughness_pa_sqrt_m);
+  } else if (!spec.growth_length_m) {
+    out.kind = params.kind = Kind::radial_ring;
+    const fracture::RadialStar star =
+        fracture::radial_star(width_m, height_m, out.response.plate.stress_pa);
+    out.radial_cracks = star.count;
+    out.branching_length_m = star.branching_length_m;
+    const double rounded = std::round(star.count);
+    out.radial_capped = rounded > fracture::FractureParams::kMaxRadialCracks;
+    params.radial.count = static_cast<int>(
+        std::clamp(rounded, 2.0, static_cast<double>(fracture::FractureParams::kMaxRadialCracks)));
+    params.radial.ring_radii_m = fracture::ring_radii_m(
+        load.peak_pressure_pa, spec.strength_pa, thickness_m, 0.5 * std::hypot(width_m, height_m));
+  }
   return out;
 }
 

@@ -63,6 +63,13 @@ struct PanePattern {
   bool growth_length_clamped = false;
   std::size_t solver_warnings = 0;  // the dynamic model's (non-finite state, step cap)
   fracture::FractureParams params;  // valid when the pane breaks (or is forced)
+  // The pattern's kind and sizes (docs/fracture.md): radial cracks and rings for annealed glass
+  // (the thesis's crack tree when the scene gives fracture.growth_length), dice for tempered.
+  fracture::FractureParams::Kind kind = fracture::FractureParams::Kind::crack_tree;
+  double radial_cracks = 0.0;       // the star's arm count before rounding and the cap
+  bool radial_capped = false;       // more than kMaxRadialCracks: capped
+  double branching_length_m = 0.0;  // r_b = (A_b / sigma_e)^2 at the centre
+  double dice_cell_m = 0.0;
 };
 
 // The pane's peak centre stress and deflection under `load` scaled by `load_scale`, by the

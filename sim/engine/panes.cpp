@@ -157,11 +157,28 @@ double perimeter(const geometry::Polygon& polygon) {
   return length;
 }
 
+constexpr double kOnePanelSize_m = 0.02;
+
 // Panels of both faces (front +z, its mirror on the back −z) with clearing distance S, and the
 // faces plus side walls for the flight-drag shape. Polygon in the pane's centred frame.
 void fragment_panels(const geometry::Polygon& polygon, double thickness, double pane_half_size,
                      bool own_clearing, BodySource& body) {
-  std::vector<geometry::Panel> front = geometry::front_panels(polygon, thickness);
+  // A fragment that fits in kOnePanelSize_m takes its load on one panel a face (docs/fracture.md,
+  // "Performance"): across it the wave's arrival differs by under 0.1 ms (the slowest shock, the
+  // speed of sound, 343 m/s) against pulses of milliseconds, so its several panels would carry
+  // the same pressure and give the same force and no torque about its centroid.
+  double extent = 0.0;
+  for (const Vec2& a : polygon)
+    for (const Vec2& b : polygon)
+      extent = std::max(extent, (a - b).norm());
+  const bool one = extent <= kOnePanelSize_m;
+  std::vector<geometry::Panel> front = one ? geometry::front_panels(polygon, thickness, 1, 1)
+                                           : geometry::front_panels(polygon, thickness);
+  if (one) {
+    // front_panels' count for it: its ear clipping's n - 2 triangles, within 5 to 16, a face.
+    const auto full = std::clamp<std::size_t>(polygon.size() - 2, 5, 16);
+    body.panels_merged = static_cast<std::uint32_t>(2 * (full - front.size()));
+  }
   body.load_panels.reserve(2 * front.size());
   for (geometry::Panel panel : front) {
     if (!own_clearing) panel.face_half_size_m = pane_half_size;

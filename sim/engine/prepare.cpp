@@ -107,6 +107,7 @@ void prepare_body(BodySource& source, double normal_force_n, bool standing, doub
   const std::vector<geometry::Panel>& panels = source.load_panels;
   body.drag_shape = drag_shape_from(source.drag_panels.empty() ? panels : source.drag_panels);
   stats.panels += panels.size();
+  stats.panels_merged += source.panels_merged;
   if (!source.anchored) {
     for (const geometry::Panel& panel : panels)
       model.panels.push_back(

@@ -513,6 +513,35 @@ std::optional<std::string> validate(const FractureParams& params) {
             << " x " << params.height_m;
     return message.str();
   }
+  if (params.kind == FractureParams::Kind::radial_ring) {
+    if (params.radial.count < 2 || params.radial.count > FractureParams::kMaxRadialCracks) {
+      message << "a radial pattern needs 2 to " << FractureParams::kMaxRadialCracks
+              << " radial cracks, got " << params.radial.count;
+      return message.str();
+    }
+    if (params.radial.ring_radii_m.size() > static_cast<std::size_t>(FractureParams::kMaxRings)) {
+      message << "a radial pattern has at most " << FractureParams::kMaxRings << " rings, got "
+              << params.radial.ring_radii_m.size();
+      return message.str();
+    }
+    double last = 0.0;
+    for (const double r : params.radial.ring_radii_m) {
+      if (!(std::isfinite(r) && r > last)) {
+        message << "ring radii must be positive, finite and increasing, got " << r << " m";
+        return message.str();
+      }
+      last = r;
+    }
+  } else if (params.kind == FractureParams::Kind::dice) {
+    const double cells = std::ceil(params.width_m / params.dice_cell_m) *
+                         std::ceil(params.height_m / params.dice_cell_m);
+    if (!positive(params.dice_cell_m) ||
+        !(cells <= static_cast<double>(FractureParams::kMaxDice))) {
+      message << "dice cells must be a positive size giving at most " << FractureParams::kMaxDice
+              << " cells on the pane, got " << params.dice_cell_m << " m";
+      return message.str();
+    }
+  }
   if (params.grid_x < 4 || params.grid_y < 4 || params.grid_x > FractureParams::kMaxGridCells ||
       params.grid_y > FractureParams::kMaxGridCells) {
     message << "grid must have 4 to " << FractureParams::kMaxGridCells << " cells per side, got "

@@ -4,6 +4,7 @@
 // lower-left corner, x along the width, y along the height.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <functional>
 #include <optional>
@@ -53,7 +54,27 @@ struct FractureParams {
   double growth_limit_m = 0.0;
   std::uint64_t seed = 1;
 
+  // Which pattern fracture() makes (sim/fracture/patterns.hpp, docs/fracture.md):
+  //  - crack_tree: the thesis's crack tree above, grown on the bit bucket;
+  //  - radial_ring: `radial.count` radial cracks branching out from the first nucleation point
+  //    (the pane's centre if none) where the plate's stress lets them (patterns.hpp,
+  //    radial_star), crossed by ring cracks at `radial.ring_radii_m` — annealed glass (uses the
+  //    branch angle, the wiggle fields and the seed; not the grid or the growth length);
+  //  - dice: roughly equiaxed cells `dice_cell_m` across, over the whole pane — tempered glass
+  //    (uses the seed only).
+  enum class Kind : std::uint8_t { crack_tree, radial_ring, dice };
+  Kind kind = Kind::crack_tree;
+  struct Radial {
+    int count = 8;                     // radial cracks out of the branching zone, >= 2
+    std::vector<double> ring_radii_m;  // ring cracks around the origin, increasing
+  } radial;
+  double dice_cell_m = 0.0;
+
   static constexpr double kMinBranchAngleDeg = 5.0;
+  static constexpr int kMaxRadialCracks = 2048;
+  static constexpr int kMaxRings = 64;
+  // Dice patterns: at most this many cells (a 1.2 x 0.9 m pane at 4 mm cells has 67 500).
+  static constexpr std::size_t kMaxDice = 400000;
   static constexpr int kMaxGridCells = 8192;  // per side
 };
 

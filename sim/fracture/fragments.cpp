@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <numeric>
 
+#include "sim/fracture/patterns.hpp"
 #include "sim/geometry/disjoint_sets.hpp"
 #include "sim/geometry/polygon.hpp"
 #include "sim/geometry/queries.hpp"
@@ -373,6 +374,9 @@ FracturePattern extract_fragments(const CrackTree& tree, double width_m, double 
 }
 
 FracturePattern fracture(const FractureParams& params, const StopRequest& stop) {
+  if (params.kind == FractureParams::Kind::dice) return dice_pattern(params);
+  if (params.kind == FractureParams::Kind::radial_ring)
+    return extract_fragments(radial_ring_cracks(params), params.width_m, params.height_m);
   const CrackTree tree = grow_crack_tree(params, stop);
   if (tree.stopped) {
     FracturePattern pattern;

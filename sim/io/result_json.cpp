@@ -105,7 +105,7 @@ json stats_to_json(const engine::Stats& stats) {
                bodies_never_released, fragments_held_by_frame, bodies_slept,
                bodies_static_in_frames, panels, panels_loaded, panels_back_facing,
                panels_not_reached, body_steps, occlusion_skipped, panels_shielded, panes_broken,
-               panes_not_broken, fragments, collision_pairs, collision_pairs_skipped,
+               panes_not_broken, fragments, panels_merged, collision_pairs, collision_pairs_skipped,
                contact_points] = stats;
   return json{{"steps", steps},
               {"simulated_time_s", simulated_time_s},
@@ -127,6 +127,7 @@ json stats_to_json(const engine::Stats& stats) {
               {"panes_broken", panes_broken},
               {"panes_not_broken", panes_not_broken},
               {"fragments", fragments},
+              {"panels_merged", panels_merged},
               {"collision_pairs", collision_pairs},
               {"collision_pairs_skipped", collision_pairs_skipped},
               {"contact_points", contact_points}};

@@ -98,6 +98,7 @@ void read_window_fields(const Fields& fields, bool pane_known, WindowParams& win
     window_params.fracture.youngs_modulus_pa = material->youngs_modulus_pa;
     window_params.fracture.fracture_toughness_pa_sqrt_m = material->fracture_toughness_pa_sqrt_m;
     window_params.fracture.strength_pa = material->strength_pa;
+    window_params.fracture.surface_compression_pa = material->surface_compression_pa;
   }
 }
 

@@ -327,6 +327,7 @@ std::optional<FractureSpec> parse_fracture(const json& value, const std::string&
     spec.youngs_modulus_pa = material->youngs_modulus_pa;
     spec.fracture_toughness_pa_sqrt_m = material->fracture_toughness_pa_sqrt_m;
     spec.strength_pa = material->strength_pa;
+    spec.surface_compression_pa = material->surface_compression_pa;
   }
   const bool all_given =
       fields.get("strength") && fields.get("toughness") && fields.get("youngs_modulus");

@@ -80,6 +80,9 @@ struct FractureSpec {
   double youngs_modulus_pa = 70e9;
   double fracture_toughness_pa_sqrt_m = 0.75e6;
   double strength_pa = 45e6;
+  // Tempered glass: the residual surface compression of its temper, Pa (0: annealed). A pane
+  // with one breaks into dice sized by it (docs/fracture.md), whatever the load.
+  double surface_compression_pa = 0.0;
   // Crack pattern. growth_length_m, when given, overrides eq. 5.5's scale (artist control).
   std::optional<double> growth_length_m;
   double pattern_scale = 5000.0;  // growth length = pattern_scale x a_c (docs/fracture.md)
@@ -237,6 +240,7 @@ struct Material {
   double fracture_toughness_pa_sqrt_m = 0.0;  // K_c
   double strength_pa = 0.0;                   // bending strength
   std::string_view fracture_source = {};
+  double surface_compression_pa = 0.0;  // tempered glass: its temper's surface compression
 };
 std::vector<Material> known_materials();
 

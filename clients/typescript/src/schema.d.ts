@@ -985,6 +985,11 @@ export interface components {
             panels_back_facing: number;
             /** @description The wave arrived after the run ended. */
             panels_not_reached: number;
+            /**
+             * @description Load panels not made: a glass fragment under 2 cm across (tempered glass's dice)
+             *     takes one panel a face instead of 5 to 16, which would carry the same pressure.
+             */
+            panels_merged: number;
             /** @description Bodies integrated, summed over steps. */
             body_steps: number;
             /** @description No occlusion pass ran. */

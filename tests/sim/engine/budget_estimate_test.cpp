@@ -2,6 +2,7 @@
 // the run creates, so it refuses a scene the run would stop for (fine fragments on many panes)
 // and never one the run takes: with limits and a budget set exactly to what a run creates, every
 // example scene is still accepted.
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -108,6 +109,39 @@ RunSize run_size(const scene::Scene& scene) {
   return size;
 }
 
+TEST(BudgetEstimate, ATemperedPaneIsCountedAsItsDice) {
+  // A 3 x 2 m tempered pane breaks into about 134 000 dice (6.7 mm): past the default
+  // max_fragments (100 000), refused at submission, and the run stops for the same limit. At
+  // 1.2 x 0.9 m (24 165 dice) it is accepted, and the estimate's count is the run's.
+  const auto tempered = [](double w, double h) {
+    return parse(R"({"charges": [{"position": [0, 1.5, 5], "mass": 10}],
+                     "environment": {"ground": null},
+                     "objects": [{"name": "pane", "shape": {"type": "box", "size": [)" +
+                 std::to_string(w) + ", " + std::to_string(h) +
+                 R"(, 0.006]}, "position": [0, 1.5, 0], "material": "tempered_glass",
+                     "fracture": {"break": "always"}}],
+                     "simulation": {"duration": 0.05, "frame_rate": 30}})");
+  };
+  const RunBudget budget = service_budget();
+  const std::optional<BudgetRefusal> refusal = refuse_before_run(tempered(3.0, 2.0), budget);
+  ASSERT_TRUE(refusal.has_value());
+  EXPECT_EQ(refusal->what.kind, OverBudget::Kind::limit);
+  EXPECT_NE(refusal->what.message.find("max_fragments"), std::string::npos)
+      << refusal->what.message;
+  const RunOutcome run = simulate(tempered(3.0, 2.0), {}, budget);
+  ASSERT_TRUE(run.over_budget.has_value());
+  EXPECT_NE(run.over_budget->message.find("max_fragments"), std::string::npos);
+
+  const scene::Scene window = tempered(1.2, 0.9);
+  EXPECT_FALSE(refuse_before_run(window, budget).has_value());
+  RunBudget exact = budget;
+  exact.limits.max_fragments = run_size(window).fragments;
+  EXPECT_EQ(exact.limits.max_fragments, 24165u);
+  EXPECT_FALSE(refuse_before_run(window, exact).has_value());
+  exact.limits.max_fragments -= 1;
+  EXPECT_TRUE(refuse_before_run(window, exact).has_value());  // the dice are counted exactly
+}
+
 // Every example scene (and the pane variants of the golden set, and a few fine panes) with every
 // limit and the memory budget set to exactly what its run creates: the run takes it, so the
 // estimate must too. And each is accepted under the service's own limits.
@@ -173,6 +207,42 @@ TEST(BudgetEstimate, FewestFragmentsIsBelowEveryGrownPattern) {
     }
   }
   EXPECT_EQ(checked, 30);
+}
+
+// The same for the patterns a job grows without a given growth length: radial cracks and rings
+// (annealed glass) over pane shapes and pressures, and tempered dice (exact).
+TEST(BudgetEstimate, FewestFragmentsIsBelowRadialAndDicePatterns) {
+  struct Case {
+    double width, height, pressure_pa;
+  };
+  const Case cases[] = {
+      {1.2, 0.9, 4.0e3}, {1.2, 0.9, 20e3},  {1.5, 0.15, 400e3}, {0.1, 0.025, 3e6},
+      {0.6, 1.8, 3e3},   {0.3, 0.3, 100e3}, {2.0, 0.2, 60e3},   {0.5, 0.5, 8e3},
+  };
+  double least_ratio = 1e9;
+  for (const Case& c : cases) {
+    for (std::uint64_t seed = 1; seed <= 3; ++seed) {
+      scene::FractureSpec spec;
+      spec.breakage = scene::FractureSpec::Breakage::static_plate;
+      spec.trigger = scene::FractureSpec::Trigger::always;
+      const PaneSize pane{c.width, c.height, 0.006, 2500.0};
+      PaneLoad load;
+      load.peak_pressure_pa = c.pressure_pa;
+      const PanePattern plan = pane_pattern(spec, pane, load, seed);
+      ASSERT_EQ(plan.kind, fracture::FractureParams::Kind::radial_ring);
+      const std::size_t grown = fracture::fracture(plan.params).fragments.size();
+      EXPECT_LE(fewest_fragments(plan, c.width, c.height), grown)
+          << c.width << " x " << c.height << " m at " << c.pressure_pa << " Pa, "
+          << plan.params.radial.count << " radial cracks, seed " << seed;
+      least_ratio = std::min(least_ratio, static_cast<double>(grown) / plan.params.radial.count);
+      spec.surface_compression_pa = 75e6;
+      const PanePattern dice = pane_pattern(spec, pane, load, seed);
+      ASSERT_EQ(dice.kind, fracture::FractureParams::Kind::dice);
+      EXPECT_EQ(fewest_fragments(dice, c.width, c.height),
+                fracture::fracture(dice.params).fragments.size());
+    }
+  }
+  std::printf("  least fragments per radial crack: %.2f\n", least_ratio);
 }
 
 }  // namespace

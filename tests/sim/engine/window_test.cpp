@@ -441,9 +441,17 @@ TEST(WindowScenes, WindowIsBlownOut) {
   const PaneReport& pane = r.fracture[0];
   ASSERT_TRUE(pane.broken);
   EXPECT_NEAR(pane.stress_pa, 184e6, 1e6);
-  EXPECT_GE(pane.fragment_count, 25u);
+  EXPECT_GE(pane.fragment_count, 500u);
   EXPECT_GT(pane.released, pane.fragment_count / 2);
-  EXPECT_GT(pane.launch_speed_larger_half_m_s, pane.launch_speed_smaller_half_m_s);
+  // Larger fragments faster (thesis §6.5) holds where the thesis has it, with each fragment
+  // clearing from its own edges. With the pane's clearing (the default) the pieces leave in the
+  // plate's mode shape, and the smallest are the splinters of the branching zone at the centre,
+  // where the plate moves fastest: there the smaller half is the faster (docs/fracture.md).
+  scene::Scene own = load("window.json");
+  own.objects[0].fracture->clearing = scene::FractureSpec::Clearing::fragment;
+  own.simulation.duration_s = 0.1;
+  const PaneReport own_pane = simulate(own).result.fracture.at(0);
+  EXPECT_GT(own_pane.launch_speed_larger_half_m_s, own_pane.launch_speed_smaller_half_m_s);
   std::size_t away = 0;
   for (std::size_t k = 0; k < pane.fragment_count; ++k) {
     if (pane.release_times_s[k] < 0.0) continue;
@@ -458,9 +466,7 @@ TEST(WindowScenes, ShelteredPaneFliesWithTheMomentumTheWaveGives) {
   // A pane with a room behind it takes at most about i_r per area from the pressure: its
   // fragments' momentum over their mass (the mass-weighted mean launch speed) lies between 0.6
   // and 1.3 times i_r / (rho h) (issue 11's bound; bench/results/window_fragments.txt has the
-  // table over charges and thicknesses). The plain mean over fragments is lower: they leave in
-  // the plate's velocity shape, and the many small pieces along the frame start slowly
-  // (docs/fracture.md, "Launch").
+  // table over charges and thicknesses).
   scene::Scene s = load("window.json");
   const scene::ObjectSpec& pane = s.objects[0];
   ASSERT_EQ(pane.sheltered, scene::kShelteredBack);
@@ -472,14 +478,14 @@ TEST(WindowScenes, ShelteredPaneFliesWithTheMomentumTheWaveGives) {
   const double speed = sheltered.fracture[0].launch_speed_mass_weighted_m_s;
   EXPECT_GT(speed, 0.6 * bound);
   EXPECT_LT(speed, 1.3 * bound);
-  EXPECT_GT(sheltered.fracture[0].launch_speed_m_s.mean, 0.5 * bound);
-  EXPECT_LT(sheltered.fracture[0].launch_speed_m_s.mean, speed);
+  // The plain mean over fragments too (issue 11's "mean launch speed"): with the radial-ring
+  // pattern it is within the bound as well (0.88; the crack tree's 32 pieces gave 0.58).
+  EXPECT_GT(sheltered.fracture[0].launch_speed_m_s.mean, 0.6 * bound);
+  EXPECT_LT(sheltered.fracture[0].launch_speed_m_s.mean, 1.3 * bound);
   // Held fragments keep the load they took before breaking free: most leave the frame — of the
-  // dynamic model's 32, 27 (84 %; 36 of 43 before the breakage load was cleared); of the static
-  // model's 579, more than 80 %. A fragment whose load beat its hold goes once the crack front
-  // has passed it, even if the wave has passed by then. (The static model's pattern had 400-odd
-  // fragments and over 90 % released while the crack tree lost tips to a wrong kill; the
-  // complete tree has more small pieces along the frame, which holds them.)
+  // dynamic model's 1 198, 1 042 (87 %; the crack tree's 32 gave 27); of the static model's,
+  // more than 80 %. A fragment whose load beat its hold goes once the crack front has passed
+  // it, even if the wave has passed by then.
   EXPECT_GT(static_cast<double>(sheltered.fracture[0].released),
             0.8 * static_cast<double>(sheltered.fracture[0].fragment_count));
   scene::Scene by_static = s;

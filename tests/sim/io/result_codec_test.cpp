@@ -84,7 +84,8 @@ TEST(ResultCodec, SummaryIsPinned) {
             "rs\":0,\"collision_pairs_skipped\":0,\"contact_points\":0,\"ended_early\":"
             "false,\"fragments\":0,\"fragments_held_by_frame\":0,\"occlusion_skipped\":true,"
             "\"panels\":7,\"panels_back_facing\""
-            ":0,\"panels_loaded\":1,\"panels_not_reached\":0,\"panels_shielded\":0,\"panes_broken"
+            ":0,\"panels_loaded\":1,\"panels_merged\":0,\"panels_not_reached\":0,\"panels_"
+            "shielded\":0,\"panes_broken"
             "\":0,\"panes_not_broke"
             "n\":0,\"simulated_time_s\":0.5,\"steps\":40,\"wall_time_s\":0.125},\"warnings\":[{\""
             "code\":\"blast_out_of_range\",\"count\":3,\"message\":\"far away\"}]}");

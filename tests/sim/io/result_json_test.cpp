@@ -77,6 +77,7 @@ engine::Result synthetic_result() {
                   .panes_broken = 1,
                   .panes_not_broken = 7,
                   .fragments = 2,
+                  .panels_merged = 16,
                   .collision_pairs = 90,
                   .collision_pairs_skipped = 8,
                   .contact_points = 150};
@@ -261,6 +262,7 @@ TEST(ResultJson, StatsHoldEveryFieldUnderItsMemberName) {
                          {"panes_broken", 1},
                          {"panes_not_broken", 7},
                          {"fragments", 2},
+                         {"panels_merged", 16},
                          {"collision_pairs", 90},
                          {"collision_pairs_skipped", 8},
                          {"contact_points", 150}};

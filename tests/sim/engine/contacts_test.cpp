@@ -208,6 +208,9 @@ TEST(Contacts, BrokenPaneLandsWithoutFragmentsInsideEachOther) {
   // window.json over a ground, with an anchored wall 0.8 m behind the window that the
   // fragments strike and drop from, so that they pile up at its foot.
   scene::Scene s = testing::load_example_scene("window.json");
+  // The thesis's crack tree in 22 fragments (window.json's own radial pattern has about 1 200,
+  // too many for a fast test, and with contacts too slow: docs/simulator.md).
+  s.objects[0].fracture->growth_length_m = 0.035;
   s.environment.ground = scene::GroundSpec{};  // y = 0, 1 m below the frame
   scene::ObjectSpec wall =
       box_object("back_wall", Vector3d(4.0, 3.0, 0.2), Vector3d(0.0, 1.5, -0.8), 1000.0);
@@ -221,7 +224,7 @@ TEST(Contacts, BrokenPaneLandsWithoutFragmentsInsideEachOther) {
   const Result without = simulate(off).result;
   ASSERT_EQ(r.fracture.size(), 1u);
   const PaneReport& pane = r.fracture[0];
-  EXPECT_GT(pane.released, 20u);
+  EXPECT_GT(pane.released, pane.fragment_count / 2);
   EXPECT_EQ(pane.release_times_s, without.fracture[0].release_times_s);
   EXPECT_EQ(pane.launch_speed_m_s.mean, without.fracture[0].launch_speed_m_s.mean);
   EXPECT_EQ(pane.launch_speed_m_s.min, without.fracture[0].launch_speed_m_s.min);

@@ -20,8 +20,8 @@ namespace {
 using nlohmann::json;
 using Clock = std::chrono::steady_clock;
 
-// 100 framed windows in rows of ten, 50 kg of TNT 6 m in front: about 30 000 bodies once broken,
-// seconds to break and prepare in a release build, 630 MB.
+// 100 framed windows in rows of ten, 50 kg of TNT 6 m in front: thousands of fragments a window
+// once broken (past max_fragments), seconds to break in a release build.
 json facade_of_windows() {
   json generators = json::array();
   for (int i = 0; i < 100; ++i) {
@@ -68,16 +68,18 @@ TEST(RunLimits, ATimeLimitEndsAJobWhileItsPanesBreak) {
 
 TEST(RunLimits, AJobOverItsMemoryBudgetFailsWithItsOwnType) {
   TestServerOptions options;
-  // 256 MB: above what the estimate at submission counts for this facade (its lower bound of
-  // the fragments), below what its run creates (about 750 MB), so the job is accepted and
-  // stops as its panes break.
-  options.job_memory_bytes = std::uint64_t{256} << 20;
+  // 896 MB: above what the estimate at submission counts for this facade (its lower bound of
+  // the fragments: between 515 and 640 MB since panes break into radial cracks and rings),
+  // below what its run creates (about 15 kB a fragment, thousands a window: the budget stops it
+  // near 60 000 fragments, before max_fragments), so the job is accepted and stops as its panes
+  // break.
+  options.job_memory_bytes = std::uint64_t{896} << 20;
   TestServer server(options);
   const json job = run_job(server, facade_of_windows(), std::chrono::seconds(120));
   EXPECT_EQ(job.at("status"), "failed") << job.dump();
   EXPECT_EQ(job.at("error").at("type"), "memory_budget_exceeded") << job.dump();
   const std::string message = job.at("error").at("message");
-  EXPECT_NE(message.find("over the job memory budget of 256 MB"), std::string::npos) << message;
+  EXPECT_NE(message.find("over the job memory budget of 896 MB"), std::string::npos) << message;
   EXPECT_NE(message.find("fracture.growth_length"), std::string::npos) << message;
 }
 

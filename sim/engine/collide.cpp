@@ -215,7 +215,10 @@ void Run::collide(double dt) {
     if (solver_index[b] < 0) {
       const dynamics::BodyModel& body = model_.bodies[b];
       const dynamics::BodyState& s = state_.bodies[b];
-      dynamics::SolverBody sb;
+      solver_index[b] = static_cast<std::int32_t>(solver.size());
+      // Filled in place: a local copy trips GCC 12's -Wmaybe-uninitialized at -O1 (the
+      // sanitizer build) inside Eigen's assignment.
+      dynamics::SolverBody& sb = solver.emplace_back();
       sb.velocity = s.velocity;
       sb.inverse_mass = body.inverse_mass;
       if (body.rotates) {
@@ -223,8 +226,6 @@ void Run::collide(double dt) {
         sb.inverse_inertia = r * body.inverse_inertia_body * r.transpose();
         sb.omega = sb.inverse_inertia * s.angular_momentum;
       }
-      solver_index[b] = static_cast<std::int32_t>(solver.size());
-      solver.push_back(sb);
       solver_body.push_back(b);
     }
     return static_cast<std::uint32_t>(solver_index[b]);

@@ -273,7 +273,12 @@ double dice_cell_m(double surface_compression_pa, double fracture_toughness_pa_s
   return 2.5 * temper_energy_ratio() * k_c * k_c / ((1.0 - poisson_ratio) * sigma_m * sigma_m);
 }
 
-CrackTree radial_ring_cracks(const FractureParams& params) {
+CrackTree radial_ring_cracks(const FractureParams& params, const StopRequest& stop) {
+  const auto stopped = [&] {
+    CrackTree abandoned;
+    abandoned.stopped = true;
+    return abandoned;
+  };
   const double w = params.width_m;
   const double h = params.height_m;
   const Vec2 origin =
@@ -362,6 +367,7 @@ CrackTree radial_ring_cracks(const FractureParams& params) {
   const double wiggle_step = step * std::tan(0.25 * params.wiggle_variance_deg * kPi / 180.0);
   SegmentGrid grid(w, h, 4.0 * step);
   for (const int m : order) {
+    if (stop && stop()) return stopped();
     Arm& arm = arms[m];
     Vec2 at = origin;
     if (arm.parent >= 0 && !point_at(arms[arm.parent], arm.birth_r, at)) continue;
@@ -394,6 +400,7 @@ CrackTree radial_ring_cracks(const FractureParams& params) {
   // piece from one arm to the other (its radius jittered by up to 4 % per sector, so the pieces
   // of neighbouring sectors meet an arm at different points, as in photographs).
   for (const double ring : params.radial.ring_radii_m) {
+    if (stop && stop()) return stopped();
     // The arms that reach the ring, in the order of their angle there: an arm that stopped on
     // another or at the outline before it has no share of it.
     struct AtRing {
@@ -438,12 +445,19 @@ CrackTree radial_ring_cracks(const FractureParams& params) {
   return tree;
 }
 
-FracturePattern dice_pattern(const FractureParams& params) {
+FracturePattern dice_pattern(const FractureParams& params, const StopRequest& stop) {
   const double w = params.width_m;
   const double h = params.height_m;
   FracturePattern pattern;
   pattern.width_m = w;
   pattern.height_m = h;
+  const auto stopped = [&] {
+    FracturePattern abandoned;
+    abandoned.width_m = w;
+    abandoned.height_m = h;
+    abandoned.stopped = true;
+    return abandoned;
+  };
   const int nx = std::max(1, static_cast<int>(std::lround(w / params.dice_cell_m)));
   const int ny = std::max(1, static_cast<int>(std::lround(h / params.dice_cell_m)));
   const double dx = w / nx;
@@ -456,6 +470,7 @@ FracturePattern dice_pattern(const FractureParams& params) {
   };
   std::vector<Vec2> nodes(static_cast<std::size_t>(nx + 1) * static_cast<std::size_t>(ny + 1));
   for (int j = 0; j <= ny; ++j) {
+    if (stop && stop()) return stopped();
     for (int i = 0; i <= nx; ++i) {
       double x = i * dx;
       double y = j * dy;
@@ -470,6 +485,7 @@ FracturePattern dice_pattern(const FractureParams& params) {
   }
   pattern.fragments.reserve(static_cast<std::size_t>(nx) * static_cast<std::size_t>(ny));
   for (int j = 0; j < ny; ++j) {
+    if (stop && stop()) return stopped();
     for (int i = 0; i < nx; ++i) {
       Fragment cell;
       cell.polygon_m = {nodes[index(i, j)], nodes[index(i + 1, j)], nodes[index(i + 1, j + 1)],

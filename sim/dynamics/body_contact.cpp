@@ -60,6 +60,82 @@ inline void apply(SolverBody& a, SolverBody& b, const ContactRow& r, const Vec3&
   b.omega += j * r.spin_b[k];
 }
 
+// One contact's step of a sweep: its normal impulse, then its friction on the disc of the
+// normal impulse, each accumulated and clamped. Specialised on which bodies move: a static
+// partner's velocities are zero and stay zero, so the terms it would add are exactly zero and
+// are left out (the same numbers, fewer loads; most contacts late in a run are with the
+// ground or a sleeping body).
+template <bool AMoves, bool BMoves>
+inline void sweep_row(std::vector<SolverBody>& bodies, ContactRow& r) {
+  SolverBody& a = bodies[r.a];
+  SolverBody& b = bodies[r.b];
+  Vec3 va = Vec3::Zero(), wa = Vec3::Zero(), vb = Vec3::Zero(), wb = Vec3::Zero();
+  if constexpr (AMoves) {
+    va = a.velocity;
+    wa = a.omega;
+  }
+  if constexpr (BMoves) {
+    vb = b.velocity;
+    wb = b.omega;
+  }
+  // The speed of b relative to a along direction k. A static side's terms are +0 (zero levers
+  // times zero velocities): left out where that leaves every result, signed zeros included, as
+  // it was (x - (+0) is x), kept as +0 where it does not (-0 + (+0) is +0).
+  auto speed_along = [&](const Vec3& direction, int k) {
+    double s;
+    if constexpr (AMoves && BMoves)
+      s = direction.dot(vb - va) + r.lever_b[k].dot(wb) - r.lever_a[k].dot(wa);
+    else if constexpr (BMoves)
+      s = direction.dot(vb) + r.lever_b[k].dot(wb);
+    else
+      s = direction.dot(vb - va) + 0.0 - r.lever_a[k].dot(wa);
+    return s;
+  };
+  const double vn = speed_along(r.normal, 0);
+  const double accumulated =
+      std::max(r.normal_impulse + (r.target_speed - vn) * r.mass_normal, 0.0);
+  const double dn = accumulated - r.normal_impulse;
+  r.normal_impulse = accumulated;
+  if constexpr (AMoves) {
+    va -= (dn * r.inverse_mass_a) * r.normal;
+    wa -= dn * r.spin_a[0];
+  }
+  if constexpr (BMoves) {
+    vb += (dn * r.inverse_mass_b) * r.normal;
+    wb += dn * r.spin_b[0];
+  }
+  // Friction on the disc of the normal impulse (none without one: a gap, or a contact pulled
+  // apart, which is most speculative contacts; skipped, it spares the clamp's root).
+  const double limit = r.friction * r.normal_impulse;
+  double fu = 0.0, fv = 0.0;
+  if (limit > 0.0) {
+    fu = r.friction_u - speed_along(r.u, 1) * r.mass_u;
+    fv = r.friction_v - speed_along(r.v, 2) * r.mass_v;
+    const double squared = fu * fu + fv * fv;
+    if (squared > limit * limit) {
+      const double scale = limit / std::sqrt(squared);
+      fu *= scale;
+      fv *= scale;
+    }
+  }
+  const double du = fu - r.friction_u, dv = fv - r.friction_v;
+  r.friction_u = fu;
+  r.friction_v = fv;
+  const Vec3 push = du * r.u + dv * r.v;
+  // Nothing is written to a static partner (zero inverse mass and inertia: its velocities do
+  // not change). The engine's static partners are all one solver body: a store there chained
+  // every contact with a static partner to the one before it through memory, and the sweep's
+  // contacts could not overlap in the processor.
+  if constexpr (AMoves) {
+    a.velocity = va - r.inverse_mass_a * push;
+    a.omega = wa - du * r.spin_a[1] - dv * r.spin_a[2];
+  }
+  if constexpr (BMoves) {
+    b.velocity = vb + r.inverse_mass_b * push;
+    b.omega = wb + du * r.spin_b[1] + dv * r.spin_b[2];
+  }
+}
+
 }  // namespace
 
 int solve_pair_contacts(std::vector<SolverBody>& bodies, std::span<PairContact> contacts,
@@ -99,6 +175,7 @@ int solve_pair_contacts(std::vector<SolverBody>& bodies, std::span<PairContact> 
     std::array<double, 3> masses;
     // (A static partner's arm, levers and spins are zero: not multiplied out.)
     const bool a_moves = a.inverse_mass > 0.0, b_moves = b.inverse_mass > 0.0;
+    r.moves = static_cast<std::uint8_t>((a_moves ? 1 : 0) | (b_moves ? 2 : 0));
     for (int k = 0; k < 3; ++k) {
       r.lever_a[k] = a_moves ? Vec3(c.arm_a.cross(directions[k])) : Vec3::Zero();
       r.lever_b[k] = b_moves ? Vec3(c.arm_b.cross(directions[k])) : Vec3::Zero();
@@ -164,50 +241,16 @@ int solve_pair_contacts(std::vector<SolverBody>& bodies, std::span<PairContact> 
   while (sweeps < settings.iterations) {
     ++sweeps;
     for (ContactRow& r : rows) {
-      SolverBody& a = bodies[r.a];
-      SolverBody& b = bodies[r.b];
-      Vec3 va = a.velocity, wa = a.omega, vb = b.velocity, wb = b.omega;
-      const double vn = r.normal.dot(vb - va) + r.lever_b[0].dot(wb) - r.lever_a[0].dot(wa);
-      const double accumulated =
-          std::max(r.normal_impulse + (r.target_speed - vn) * r.mass_normal, 0.0);
-      const double dn = accumulated - r.normal_impulse;
-      r.normal_impulse = accumulated;
-      va -= (dn * r.inverse_mass_a) * r.normal;
-      wa -= dn * r.spin_a[0];
-      vb += (dn * r.inverse_mass_b) * r.normal;
-      wb += dn * r.spin_b[0];
-      // Friction on the disc of the normal impulse (none without one: a gap, or a contact
-      // pulled apart, which is most speculative contacts; skipped, it spares the clamp's root).
-      const double limit = r.friction * r.normal_impulse;
-      double fu = 0.0, fv = 0.0;
-      if (limit > 0.0) {
-        const Vec3 slide = vb - va;
-        fu = r.friction_u -
-             (r.u.dot(slide) + r.lever_b[1].dot(wb) - r.lever_a[1].dot(wa)) * r.mass_u;
-        fv = r.friction_v -
-             (r.v.dot(slide) + r.lever_b[2].dot(wb) - r.lever_a[2].dot(wa)) * r.mass_v;
-        const double squared = fu * fu + fv * fv;
-        if (squared > limit * limit) {
-          const double scale = limit / std::sqrt(squared);
-          fu *= scale;
-          fv *= scale;
-        }
-      }
-      const double du = fu - r.friction_u, dv = fv - r.friction_v;
-      r.friction_u = fu;
-      r.friction_v = fv;
-      const Vec3 push = du * r.u + dv * r.v;
-      // Nothing is written to a static partner (zero inverse mass and inertia: its velocities
-      // do not change). The engine's static partners are all one solver body: a store there
-      // chained every contact with a static partner to the one before it through memory, and
-      // the sweep's contacts could not overlap in the processor.
-      if (r.inverse_mass_a > 0.0) {
-        a.velocity = va - r.inverse_mass_a * push;
-        a.omega = wa - du * r.spin_a[1] - dv * r.spin_a[2];
-      }
-      if (r.inverse_mass_b > 0.0) {
-        b.velocity = vb + r.inverse_mass_b * push;
-        b.omega = wb + du * r.spin_b[1] + dv * r.spin_b[2];
+      switch (r.moves) {
+        case 1:
+          sweep_row<true, false>(bodies, r);
+          break;
+        case 2:
+          sweep_row<false, true>(bodies, r);
+          break;
+        default:
+          sweep_row<true, true>(bodies, r);
+          break;
       }
     }
     double largest = 0.0;

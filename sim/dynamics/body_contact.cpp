@@ -60,6 +60,24 @@ inline void apply(SolverBody& a, SolverBody& b, const ContactRow& r, const Vec3&
   b.omega += j * r.spin_b[k];
 }
 
+// The friction directions' spins and effective masses, left until a contact first has a normal
+// impulse to bound its friction (over half of the contacts on the brick wall never do: gaps
+// within the margin, or pulled apart). The same arithmetic as for the normal, in the same order.
+inline void prepare_friction(const std::vector<SolverBody>& bodies, ContactRow& r) {
+  const SolverBody& a = bodies[r.a];
+  const SolverBody& b = bodies[r.b];
+  std::array<double, 3> masses;
+  for (int k = 1; k < 3; ++k) {
+    r.spin_a[k] = (r.moves & 1) ? Vec3(a.inverse_inertia * r.lever_a[k]) : Vec3::Zero();
+    r.spin_b[k] = (r.moves & 2) ? Vec3(b.inverse_inertia * r.lever_b[k]) : Vec3::Zero();
+    masses[k] = 1.0 / (a.inverse_mass + b.inverse_mass + r.lever_a[k].dot(r.spin_a[k]) +
+                       r.lever_b[k].dot(r.spin_b[k]));
+  }
+  r.mass_u = masses[1];
+  r.mass_v = masses[2];
+  r.friction_ready = true;
+}
+
 // One contact's step of a sweep: its normal impulse, then its friction on the disc of the
 // normal impulse, each accumulated and clamped. Specialised on which bodies move: a static
 // partner's velocities are zero and stay zero, so the terms it would add are exactly zero and
@@ -109,6 +127,7 @@ inline void sweep_row(std::vector<SolverBody>& bodies, ContactRow& r) {
   const double limit = r.friction * r.normal_impulse;
   double fu = 0.0, fv = 0.0;
   if (limit > 0.0) {
+    if (!r.friction_ready) prepare_friction(bodies, r);
     fu = r.friction_u - speed_along(r.u, 1) * r.mass_u;
     fv = r.friction_v - speed_along(r.v, 2) * r.mass_v;
     const double squared = fu * fu + fv * fv;
@@ -172,21 +191,21 @@ int solve_pair_contacts(std::vector<SolverBody>& bodies, std::span<PairContact> 
                                  : Vec3(Vec3::UnitY().cross(n).normalized());
     r.v = n.cross(r.u);
     const std::array<Vec3, 3> directions = {n, r.u, r.v};
-    std::array<double, 3> masses;
     // (A static partner's arm, levers and spins are zero: not multiplied out.)
     const bool a_moves = a.inverse_mass > 0.0, b_moves = b.inverse_mass > 0.0;
     r.moves = static_cast<std::uint8_t>((a_moves ? 1 : 0) | (b_moves ? 2 : 0));
     for (int k = 0; k < 3; ++k) {
       r.lever_a[k] = a_moves ? Vec3(c.arm_a.cross(directions[k])) : Vec3::Zero();
       r.lever_b[k] = b_moves ? Vec3(c.arm_b.cross(directions[k])) : Vec3::Zero();
-      r.spin_a[k] = a_moves ? Vec3(a.inverse_inertia * r.lever_a[k]) : Vec3::Zero();
-      r.spin_b[k] = b_moves ? Vec3(b.inverse_inertia * r.lever_b[k]) : Vec3::Zero();
-      masses[k] = 1.0 / (a.inverse_mass + b.inverse_mass + r.lever_a[k].dot(r.spin_a[k]) +
-                         r.lever_b[k].dot(r.spin_b[k]));
     }
-    r.mass_normal = masses[0];
-    r.mass_u = masses[1];
-    r.mass_v = masses[2];
+    r.spin_a[0] = a_moves ? Vec3(a.inverse_inertia * r.lever_a[0]) : Vec3::Zero();
+    r.spin_b[0] = b_moves ? Vec3(b.inverse_inertia * r.lever_b[0]) : Vec3::Zero();
+    r.mass_normal = 1.0 / (a.inverse_mass + b.inverse_mass + r.lever_a[0].dot(r.spin_a[0]) +
+                           r.lever_b[0].dot(r.spin_b[0]));
+    // The friction directions' spins and masses wait for prepare_friction; until then the
+    // friction impulses are zero, and so are the spins they would give.
+    r.spin_a[1] = r.spin_a[2] = r.spin_b[1] = r.spin_b[2] = Vec3::Zero();
+    r.friction_ready = false;
     r.friction = c.friction;
     r.normal_impulse = r.friction_u = r.friction_v = 0.0;
     const double approach = relative_speed(a, b, r, n, 0);
@@ -218,6 +237,9 @@ int solve_pair_contacts(std::vector<SolverBody>& bodies, std::span<PairContact> 
     }
     r.friction_u = fu;
     r.friction_v = fv;
+    // Without a normal impulse the friction is zero too (its disc is a point): nothing to apply.
+    if (!(r.normal_impulse > 0.0)) continue;
+    prepare_friction(bodies, r);
     SolverBody& a = bodies[r.a];
     SolverBody& b = bodies[r.b];
     apply(a, b, r, r.normal, 0, r.normal_impulse);

@@ -113,6 +113,9 @@ inline void sweep_row(std::vector<SolverBody>& bodies, ContactRow& r) {
   const double accumulated =
       std::max(r.normal_impulse + (r.target_speed - vn) * r.mass_normal, 0.0);
   const double dn = accumulated - r.normal_impulse;
+  // A contact held apart with nothing to undo (most speculative ones, sweep after sweep):
+  // no impulse changes, so no velocity does.
+  if (dn == 0.0 && accumulated == 0.0 && r.friction_u == 0.0 && r.friction_v == 0.0) return;
   r.normal_impulse = accumulated;
   if constexpr (AMoves) {
     va -= (dn * r.inverse_mass_a) * r.normal;
@@ -275,15 +278,19 @@ int solve_pair_contacts(std::vector<SolverBody>& bodies, std::span<PairContact> 
           break;
       }
     }
-    double largest = 0.0;
+    // (Once one body has changed by the tolerance the sweep has not converged: the others'
+    // changes are not measured, only recorded.)
+    bool settled = true;
     for (std::uint32_t x : island) {
       SolverBody& body = bodies[x];
-      largest = std::max(largest, (body.velocity - body.swept_velocity).norm() +
-                                      (body.omega - body.swept_omega).norm() * body.reach_m);
+      if (settled && (body.velocity - body.swept_velocity).norm() +
+                             (body.omega - body.swept_omega).norm() * body.reach_m >=
+                         converged)
+        settled = false;
       body.swept_velocity = body.velocity;
       body.swept_omega = body.omega;
     }
-    if (largest < converged) break;
+    if (settled) break;
   }
   for (std::size_t i = 0; i < rows.size(); ++i) {
     const ContactRow& r = rows[i];

@@ -332,14 +332,6 @@ void Run::collide(double dt) {
     // The contacts: the kept points where the bodies are now, those within the margin.
     const std::size_t first = contacts.size();
     bool pressed = false;
-    // The pair's solver bodies, found with its first contact within the margin (a pair with
-    // none adds no body to the solve).
-    std::uint32_t ia = 0, ib = 0;
-    bool indexed = false;
-    const double friction = std::sqrt(model_.friction[a] * model_.friction[b]);
-    const bool a_held = state_.motion[a] == Motion::held;
-    const bool b_held = state_.motion[b] == Motion::held;
-    const std::uint32_t held = a_held ? a : b_held ? b : static_cast<std::uint32_t>(n);
     for (std::size_t k = points_first; k < points.size(); ++k) {
       const CachedPoint& kept = points[k];
       const Vec3 on_a = sa.position + ra * kept.on_a;
@@ -348,25 +340,24 @@ void Run::collide(double dt) {
       const double depth = (on_a - on_b).dot(normal);
       if (depth < -pair_margin) continue;
       const Vec3 point = 0.5 * (on_a + on_b);
-      if (!indexed) {
-        ia = dynamic_index(a);
-        ib = dynamic_index(b);
-        indexed = true;
-      }
-      dynamics::PairContact& c = contacts.emplace_back();
+      const std::uint32_t ia = dynamic_index(a), ib = dynamic_index(b);
+      dynamics::PairContact c;
       c.a = ia;
       c.b = ib;
       c.point = point;
       c.normal = normal;
       c.depth_m = depth;
-      c.friction = friction;
+      c.friction = std::sqrt(model_.friction[a] * model_.friction[b]);
       c.restitution = restitution;
       c.gravity_speed_m_s =
           gravity_step.dot(normal) * ((ib != 0 ? 1.0 : 0.0) - (ia != 0 ? 1.0 : 0.0));
       c.key = contact_key(a, b, kept.feature);
       c.arm_a = ia != 0 ? Vec3(point - sa.position) : Vec3::Zero();
       c.arm_b = ib != 0 ? Vec3(point - sb.position) : Vec3::Zero();
-      contact_held.push_back(held);
+      contacts.push_back(c);
+      const bool a_held = state_.motion[a] == Motion::held;
+      const bool b_held = state_.motion[b] == Motion::held;
+      contact_held.push_back(a_held ? a : b_held ? b : static_cast<std::uint32_t>(n));
       if (depth > -1e-3) state_.touching_body[a] = state_.touching_body[b] = 1;
       if (depth > 1e-4) pressed = true;
     }

@@ -9,6 +9,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "sim/dynamics/coulomb.hpp"
+
 namespace brisance::dynamics {
 
 namespace {
@@ -133,12 +135,7 @@ inline void sweep_row(std::vector<SolverBody>& bodies, ContactRow& r) {
     if (!r.friction_ready) prepare_friction(bodies, r);
     fu = r.friction_u - speed_along(r.u, 1) * r.mass_u;
     fv = r.friction_v - speed_along(r.v, 2) * r.mass_v;
-    const double squared = fu * fu + fv * fv;
-    if (squared > limit * limit) {
-      const double scale = limit / std::sqrt(squared);
-      fu *= scale;
-      fv *= scale;
-    }
+    clamp_to_friction_disc(fu, fv, limit);
   }
   const double du = fu - r.friction_u, dv = fv - r.friction_v;
   r.friction_u = fu;

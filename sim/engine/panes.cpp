@@ -198,13 +198,16 @@ void fragment_panels(const geometry::Polygon& polygon, double thickness, double 
   // varies linearly across the face exactly and drops only that variation's small torque.
   // window.json's pane, 10 m from its charge and square to it, is crossed within 7.5 cm of path
   // per metre of a fragment's extent.
-  double extent = 0.0;
-  for (const Vec2& a : polygon)
-    for (const Vec2& b : polygon)
-      extent = std::max(extent, (a - b).norm());
-  const bool one =
-      extent <= kOnePanelSize_m || (crossing.distance_spread_m <= kOnePanelSize_m &&
-                                    crossing.distance_spread_m <= 0.01 * crossing.nearest_m);
+  // (The crossing first: it decides most pieces without the all-pairs scan of their corners.)
+  const auto under_one_panel_size = [&] {
+    for (const Vec2& a : polygon)
+      for (const Vec2& b : polygon)
+        if ((a - b).norm() > kOnePanelSize_m) return false;
+    return true;
+  };
+  const bool one = (crossing.distance_spread_m <= kOnePanelSize_m &&
+                    crossing.distance_spread_m <= 0.01 * crossing.nearest_m) ||
+                   under_one_panel_size();
   std::vector<geometry::Panel> front = one ? geometry::front_panels(polygon, thickness, 1, 1)
                                            : geometry::front_panels(polygon, thickness);
   if (one) {

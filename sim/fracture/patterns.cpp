@@ -477,7 +477,7 @@ CrackTree radial_ring_cracks(const FractureParams& params, const StopRequest& st
   for (const Arm& arm : arms)
     add_clipped(arm.points, w, h, tree);
 
-  // 4. Rings: in each sector between neighbouring arms that exist at the ring's radius, a ring
+  // 5. Rings: in each sector between neighbouring arms that exist at the ring's radius, a ring
   // piece from one arm to the other (its radius jittered by up to 4 % per sector, so the pieces
   // of neighbouring sectors meet an arm at different points, as in photographs).
   for (const double ring : params.radial.ring_radii_m) {

@@ -1,9 +1,11 @@
 // sim/engine/collide: the step's phase of contacts between bodies (issue 13), after
 // integrate_awake — place the shapes, sweep and prune, narrowphase, one sequential-impulse solve
 // of the body contacts and the ground contacts of the bodies in them, then holds and sleeping:
-//   place          convex pieces to world frame (static bodies only when they have moved)
-//   broadphase     sort and sweep along x on world boxes grown by each body's motion in the step;
-//                  the order is kept from step to step, so the insertion sort is near linear
+//   place          world boxes (static bodies only when they have moved); a body's convex pieces
+//                  are placed in the world frame only when one of its pairs needs them
+//   broadphase     sort and sweep, along the axis of widest spread, on world boxes grown by each
+//                  body's motion in the step; the order is kept from step to step, so the
+//                  insertion sort is near linear
 //   narrowphase    separating axes between convex pieces (dynamics/convex.hpp), kept from step
 //                  to step while a pair's relative pose barely changes (PairCache)
 //   solve          dynamics/body_contact.hpp, with static partners (ground, anchored, held,
@@ -87,6 +89,8 @@ void Run::init_collisions() {
   state_.placed.resize(n);
   state_.placed_state.resize(n);
   state_.placed_valid.assign(n, 0);
+  state_.box_state.resize(n);
+  state_.box_valid.assign(n, 0);
   state_.box_min.assign(n, Vec3::Zero());
   state_.box_max.assign(n, Vec3::Zero());
   state_.sweep_order.resize(n);
@@ -148,58 +152,110 @@ void Run::collide(double dt) {
                           model_.bodies[b].bounding_radius_m;
       margin[b] += (s.velocity.norm() + spin) * dt;
     }
-    if (!awake && state_.placed_valid[b] && s.position == state_.placed_state[b].position &&
-        s.orientation.coeffs() == state_.placed_state[b].orientation.coeffs())
+    if (!awake && state_.box_valid[b] && s.position == state_.box_state[b].position &&
+        s.orientation.coeffs() == state_.box_state[b].orientation.coeffs())
       continue;
     const Mat3 r = s.orientation.toRotationMatrix();
-    const auto& pieces = state_.shapes[b].pieces;
-    auto& placed = state_.placed[b];
-    placed.resize(pieces.size());
     Vec3 low = Vec3::Constant(INFINITY), high = Vec3::Constant(-INFINITY);
-    for (std::size_t p = 0; p < pieces.size(); ++p) {
-      dynamics::place(pieces[p], s.position, r, placed[p]);
-      low = low.cwiseMin(placed[p].min);
-      high = high.cwiseMax(placed[p].max);
-    }
+    for (const dynamics::ConvexPiece& piece : state_.shapes[b].pieces)
+      dynamics::grow_box(piece, s.position, r, low, high);
     state_.box_min[b] = low;
     state_.box_max[b] = high;
-    state_.placed_state[b] = s;
-    state_.placed_valid[b] = 1;
+    state_.box_state[b] = s;
+    state_.box_valid[b] = 1;
   }
   if (!any_awake) return;
+  // A body's pieces where it is now, placed when a pair first needs them this step.
+  auto placed_now = [&](std::uint32_t b) -> const std::vector<dynamics::PlacedPiece>& {
+    const dynamics::BodyState& s = state_.bodies[b];
+    auto& placed = state_.placed[b];
+    if (state_.placed_valid[b] && s.position == state_.placed_state[b].position &&
+        s.orientation.coeffs() == state_.placed_state[b].orientation.coeffs())
+      return placed;
+    const Mat3 r = s.orientation.toRotationMatrix();
+    const auto& pieces = state_.shapes[b].pieces;
+    placed.resize(pieces.size());
+    for (std::size_t p = 0; p < pieces.size(); ++p)
+      dynamics::place(pieces[p], s.position, r, placed[p]);
+    state_.placed_state[b] = s;
+    state_.placed_valid[b] = 1;
+    return placed;
+  };
 
-  // Broadphase: sort and sweep along x (insertion sort of last step's order).
+  // Broadphase: sort and sweep along the axis over which the boxes' centres spread most (a
+  // pane's fragments start side by side across it, a wall's bricks along it). The order is
+  // last step's, mended by insertion sort, unless the axis changed.
+  {
+    Vec3 sum = Vec3::Zero(), sum_squares = Vec3::Zero();
+    double count = 0.0;
+    for (std::uint32_t b = 0; b < n; ++b) {
+      if (state_.shapes[b].pieces.empty()) continue;
+      const Vec3 centre = 0.5 * (state_.box_min[b] + state_.box_max[b]);
+      sum += centre;
+      sum_squares += centre.cwiseProduct(centre);
+      count += 1.0;
+    }
+    const Vec3 spread = sum_squares - sum.cwiseProduct(sum) / std::max(count, 1.0);
+    int widest = 0;
+    spread.maxCoeff(&widest);
+    // Switch only to an axis clearly wider (twice the spread), not back and forth.
+    if (widest != state_.sweep_axis && spread[widest] > 2.0 * spread[state_.sweep_axis]) {
+      state_.sweep_axis = widest;
+      const int axis = widest;
+      std::sort(state_.sweep_order.begin(), state_.sweep_order.end(),
+                [&](std::uint32_t a, std::uint32_t b) {
+                  const double la = state_.box_min[a][axis] - margin[a];
+                  const double lb = state_.box_min[b][axis] - margin[b];
+                  return la != lb ? la < lb : a < b;
+                });
+    }
+  }
+  const int axis = state_.sweep_axis;
   auto& order = state_.sweep_order;
-  auto low_x = [&](std::uint32_t b) { return state_.box_min[b].x() - margin[b]; };
+  auto low_of = [&](std::uint32_t b) { return state_.box_min[b][axis] - margin[b]; };
   for (std::size_t i = 1; i < order.size(); ++i) {
     const std::uint32_t body = order[i];
-    const double key = low_x(body);
+    const double key = low_of(body);
     std::size_t j = i;
     while (j > 0 &&
-           (low_x(order[j - 1]) > key || (low_x(order[j - 1]) == key && order[j - 1] > body))) {
+           (low_of(order[j - 1]) > key || (low_of(order[j - 1]) == key && order[j - 1] > body))) {
       order[j] = order[j - 1];
       --j;
     }
     order[j] = body;
   }
+  // Fragments against fragments only with `on`: measured on window.json, their contacts
+  // (prisms of many triangular pieces, whose inner faces give poor normals) spun fragments
+  // up to 250 rad/s and cut the step to 0.25 ms: a 2 s run went from 0.3 s to over 100 s.
+  // Skipped here, so that a pane's thousands of pieces flying side by side cost no more than
+  // their boxes' test (sorting them with the other pairs took a fifth of window.json's run).
+  const bool skip_fragment_pairs = model_.collisions == Collisions::automatic;
   auto& pairs = state_.pairs;
   pairs.clear();
+  std::uint64_t fragment_pairs = 0;
   for (std::size_t i = 0; i < order.size(); ++i) {
     const std::uint32_t a = order[i];
     if (state_.shapes[a].pieces.empty()) continue;
-    const double high_x = state_.box_max[a].x() + margin[a];
-    for (std::size_t k = i + 1; k < order.size() && low_x(order[k]) <= high_x; ++k) {
+    const double high = state_.box_max[a][axis] + margin[a];
+    const bool a_awake = state_.motion[a] == Motion::awake;
+    const bool a_fragment = skip_fragment_pairs && model_.fragment[a];
+    for (std::size_t k = i + 1; k < order.size() && low_of(order[k]) <= high; ++k) {
       const std::uint32_t b = order[k];
-      if (state_.motion[a] != Motion::awake && state_.motion[b] != Motion::awake) continue;
+      if (!a_awake && state_.motion[b] != Motion::awake) continue;
       const double grow = margin[a] + margin[b];
       if ((state_.box_min[a].array() > state_.box_max[b].array() + grow).any() ||
           (state_.box_min[b].array() > state_.box_max[a].array() + grow).any())
         continue;
+      if (a_fragment && model_.fragment[b]) {
+        ++fragment_pairs;
+        continue;
+      }
       pairs.emplace_back(std::min(a, b), std::max(a, b));
     }
   }
   std::sort(pairs.begin(), pairs.end());
-  result_.stats.collision_pairs += pairs.size();
+  result_.stats.collision_pairs += pairs.size() + fragment_pairs;
+  result_.stats.collision_pairs_skipped += fragment_pairs;
 
   // Narrowphase. An asleep body met by a moving one wakes up.
   // (The step's buffers live in the state, to spare their allocations; solver_index is left
@@ -250,13 +306,6 @@ void Run::collide(double dt) {
         state_.motion[x] = Motion::awake;
         state_.rest_time_s[x] = 0.0;
       }
-    }
-    if (model_.collisions == Collisions::automatic && model_.fragment[a] && model_.fragment[b]) {
-      // Fragments against fragments only with `on`: measured on window.json, their contacts
-      // (prisms of many triangular pieces, whose inner faces give poor normals) spun fragments
-      // up to 250 rad/s and cut the step to 0.25 ms: a 2 s run went from 0.3 s to over 100 s.
-      ++result_.stats.collision_pairs_skipped;
-      continue;
     }
     if (state_.start_neighbours.count(contact_key(a, b, 0))) {
       ++result_.stats.collision_pairs_skipped;  // a fragment and its frame
@@ -310,8 +359,8 @@ void Run::collide(double dt) {
       state_.next_pair_cache.back().first = points_first;
     } else {
       const double found_margin = kCacheMargin * pair_margin;
-      const auto& pa = state_.placed[a];
-      const auto& pb = state_.placed[b];
+      const auto& pa = placed_now(a);
+      const auto& pb = placed_now(b);
       for (std::size_t i = 0; i < pa.size(); ++i)
         for (std::size_t j = 0; j < pb.size(); ++j) {
           const std::uint32_t base = static_cast<std::uint32_t>((i * pb.size() + j) << 8);

@@ -58,6 +58,9 @@ struct Row {
   double smaller_half;
   bool tempered;
   double fewest_per_50mm;  // EN 12150-1's count on a tempered pane's fragments (-1: none)
+  // The worst GSA P100 glazing condition over the seeds (sim/engine/hazard; the runs end at
+  // 0.1 s, so most fragments are followed on on a ballistic path without drag).
+  std::string gsa_condition;
 };
 
 }  // namespace
@@ -131,6 +134,7 @@ int main(int argc, char** argv) {
         scene.simulation.duration_s = 0.1;  // long enough for every launch
         const auto result = brisance::engine::simulate(scene).result;
         const PaneReport& pane = result.fracture.at(0);
+        row.gsa_condition = std::max(row.gsa_condition, pane.hazard.condition);  // "1" < ... < "5"
         const double distance = (scene.charges[0].position - pane_object.position).norm();
         const brisance::blast::BlastPoint point = brisance::blast::blast_point(
             brisance::blast::Charge{c.charge_kg * scene.charges[0].tnt_factor}, distance);
@@ -210,14 +214,14 @@ int main(int argc, char** argv) {
   table << "h_mm charge_kg clearing  P_r_kPa stress_MPa a_c_um growth_mm fragments "
            "area_cm2 eq2.45_cm2 ratio  speed_m_s bound_m_s ratio eq2.46_m_s ratio "
            "eq2.46_ft_s ratio larger_half small_half p90/p10 mass_mean ratio glass "
-           "fewest_per_50mm\n";
+           "fewest_per_50mm gsa\n";
   constexpr double kFoot = 0.3048;  // eq. 2.46 read as giving ft/s
   for (const Row& r : rows) {
     std::snprintf(
         line, sizeof line,
         "%4.0f %9.2f %-9s %7.1f %10.0f %6.3f %8.2f%s %9.0f %8.2f %10.3f %6.1f %9.2f "
         "%9.2f %5.2f %10.1f %5.3f %11.1f %5.3f %11.2f %10.2f %7.2f %9.2f %5.2f "
-        "%-8s %s\n",
+        "%-8s %15s %3s\n",
         r.thickness_mm, r.charge_kg, r.clearing, r.pressure_kpa, r.stress_mpa, r.critical_um,
         r.growth_mm, r.clamped ? "*" : " ", r.fragments, r.area_cm2, r.empirical_area_cm2,
         r.area_cm2 / r.empirical_area_cm2, r.speed, r.bound_speed, r.speed / r.bound_speed,
@@ -225,14 +229,17 @@ int main(int argc, char** argv) {
         r.speed / (kFoot * r.empirical_speed), r.larger_half, r.smaller_half, r.spread, r.mass_mean,
         r.mass_mean / r.bound_speed, r.tempered ? "tempered" : "annealed",
         r.fewest_per_50mm >= 0.0 ? std::to_string(static_cast<long>(r.fewest_per_50mm)).c_str()
-                                 : "-");
+                                 : "-",
+        r.gsa_condition.c_str());
     table << line;
   }
   table << "(growth_mm: eq. 5.5's growth length pattern_scale x a_c, what the crack tree "
            "would grow with; the radial-ring pattern and the dice do not use it "
            "(docs/fracture.md). *: clamped. fewest_per_50mm: the fewest fragments in any "
            "50 mm square 25 mm or more from the edges; EN 12150-1 asks at least 40 for "
-           "4-12 mm tempered glass)\n";
+           "4-12 mm tempered glass. gsa: the worst GSA P100 table 8-1 glazing condition over "
+           "the seeds (1 safe ... 5 high hazard; docs/fracture.md, \"Hazard rating\"), the "
+           "fragments followed past the run's 0.1 s on ballistic paths without drag)\n";
   std::fputs(table.str().c_str(), stdout);
 
   std::filesystem::create_directories(out_dir);
@@ -243,15 +250,16 @@ int main(int argc, char** argv) {
          "growth_length_mm,growth_length_clamped,fragments,mean_area_cm2,eq245_area_cm2,"
          "mean_speed_m_s,momentum_bound_m_s,eq246_speed_m_s,speed_larger_half_m_s,"
          "speed_smaller_half_m_s,speed_p90_over_p10,mass_weighted_speed_m_s,glass,"
-         "fewest_per_50mm\n";
+         "fewest_per_50mm,gsa_condition\n";
   for (const Row& r : rows) {
-    std::snprintf(
-        line, sizeof line,
-        "%g,%g,%s,%.4g,%.4g,%.4g,%.4g,%d,%g,%.4g,%.4g,%.4g,%.4g,%.4g,%.4g,%.4g,%.4g,%.4g,%s,%g\n",
-        r.thickness_mm, r.charge_kg, r.clearing, r.pressure_kpa, r.stress_mpa, r.critical_um,
-        r.growth_mm, r.clamped ? 1 : 0, r.fragments, r.area_cm2, r.empirical_area_cm2, r.speed,
-        r.bound_speed, r.empirical_speed, r.larger_half, r.smaller_half, r.spread, r.mass_mean,
-        r.tempered ? "tempered" : "annealed", r.fewest_per_50mm);
+    std::snprintf(line, sizeof line,
+                  "%g,%g,%s,%.4g,%.4g,%.4g,%.4g,%d,%g,%.4g,%.4g,%.4g,%.4g,%.4g,%.4g,%.4g,%.4g,%.4g,"
+                  "%s,%g,%s\n",
+                  r.thickness_mm, r.charge_kg, r.clearing, r.pressure_kpa, r.stress_mpa,
+                  r.critical_um, r.growth_mm, r.clamped ? 1 : 0, r.fragments, r.area_cm2,
+                  r.empirical_area_cm2, r.speed, r.bound_speed, r.empirical_speed, r.larger_half,
+                  r.smaller_half, r.spread, r.mass_mean, r.tempered ? "tempered" : "annealed",
+                  r.fewest_per_50mm, r.gsa_condition.c_str());
     csv << line;
   }
   return 0;

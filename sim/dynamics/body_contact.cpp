@@ -9,6 +9,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "sim/dynamics/coulomb.hpp"
+
 namespace brisance::dynamics {
 
 namespace {
@@ -60,6 +62,99 @@ inline void apply(SolverBody& a, SolverBody& b, const ContactRow& r, const Vec3&
   b.omega += j * r.spin_b[k];
 }
 
+// The friction directions' spins and effective masses, left until a contact first has a normal
+// impulse to bound its friction (over half of the contacts on the brick wall never do: gaps
+// within the margin, or pulled apart). The same arithmetic as for the normal, in the same order.
+inline void prepare_friction(const std::vector<SolverBody>& bodies, ContactRow& r) {
+  const SolverBody& a = bodies[r.a];
+  const SolverBody& b = bodies[r.b];
+  std::array<double, 3> masses;
+  for (int k = 1; k < 3; ++k) {
+    r.spin_a[k] = (r.moves & 1) ? Vec3(a.inverse_inertia * r.lever_a[k]) : Vec3::Zero();
+    r.spin_b[k] = (r.moves & 2) ? Vec3(b.inverse_inertia * r.lever_b[k]) : Vec3::Zero();
+    masses[k] = 1.0 / (a.inverse_mass + b.inverse_mass + r.lever_a[k].dot(r.spin_a[k]) +
+                       r.lever_b[k].dot(r.spin_b[k]));
+  }
+  r.mass_u = masses[1];
+  r.mass_v = masses[2];
+  r.friction_ready = true;
+}
+
+// One contact's step of a sweep: its normal impulse, then its friction on the disc of the
+// normal impulse, each accumulated and clamped. Specialised on which bodies move: a static
+// partner's velocities are zero and stay zero, so the terms it would add are exactly zero and
+// are left out (the same numbers, fewer loads; most contacts late in a run are with the
+// ground or a sleeping body).
+template <bool AMoves, bool BMoves>
+inline void sweep_row(std::vector<SolverBody>& bodies, ContactRow& r) {
+  SolverBody& a = bodies[r.a];
+  SolverBody& b = bodies[r.b];
+  Vec3 va = Vec3::Zero(), wa = Vec3::Zero(), vb = Vec3::Zero(), wb = Vec3::Zero();
+  if constexpr (AMoves) {
+    va = a.velocity;
+    wa = a.omega;
+  }
+  if constexpr (BMoves) {
+    vb = b.velocity;
+    wb = b.omega;
+  }
+  // The speed of b relative to a along direction k. A static side's terms are +0 (zero levers
+  // times zero velocities): left out where that leaves every result, signed zeros included, as
+  // it was (x - (+0) is x), kept as +0 where it does not (-0 + (+0) is +0).
+  auto speed_along = [&](const Vec3& direction, int k) {
+    double s;
+    if constexpr (AMoves && BMoves)
+      s = direction.dot(vb - va) + r.lever_b[k].dot(wb) - r.lever_a[k].dot(wa);
+    else if constexpr (BMoves)
+      s = direction.dot(vb) + r.lever_b[k].dot(wb);
+    else
+      s = direction.dot(vb - va) + 0.0 - r.lever_a[k].dot(wa);
+    return s;
+  };
+  const double vn = speed_along(r.normal, 0);
+  const double accumulated =
+      std::max(r.normal_impulse + (r.target_speed - vn) * r.mass_normal, 0.0);
+  const double dn = accumulated - r.normal_impulse;
+  // A contact held apart with nothing to undo (most speculative ones, sweep after sweep):
+  // no impulse changes, so no velocity does.
+  if (dn == 0.0 && accumulated == 0.0 && r.friction_u == 0.0 && r.friction_v == 0.0) return;
+  r.normal_impulse = accumulated;
+  if constexpr (AMoves) {
+    va -= (dn * r.inverse_mass_a) * r.normal;
+    wa -= dn * r.spin_a[0];
+  }
+  if constexpr (BMoves) {
+    vb += (dn * r.inverse_mass_b) * r.normal;
+    wb += dn * r.spin_b[0];
+  }
+  // Friction on the disc of the normal impulse (none without one: a gap, or a contact pulled
+  // apart, which is most speculative contacts; skipped, it spares the clamp's root).
+  const double limit = r.friction * r.normal_impulse;
+  double fu = 0.0, fv = 0.0;
+  if (limit > 0.0) {
+    if (!r.friction_ready) prepare_friction(bodies, r);
+    fu = r.friction_u - speed_along(r.u, 1) * r.mass_u;
+    fv = r.friction_v - speed_along(r.v, 2) * r.mass_v;
+    clamp_to_friction_disc(fu, fv, limit);
+  }
+  const double du = fu - r.friction_u, dv = fv - r.friction_v;
+  r.friction_u = fu;
+  r.friction_v = fv;
+  const Vec3 push = du * r.u + dv * r.v;
+  // Nothing is written to a static partner (zero inverse mass and inertia: its velocities do
+  // not change). The engine's static partners are all one solver body: a store there chained
+  // every contact with a static partner to the one before it through memory, and the sweep's
+  // contacts could not overlap in the processor.
+  if constexpr (AMoves) {
+    a.velocity = va - r.inverse_mass_a * push;
+    a.omega = wa - du * r.spin_a[1] - dv * r.spin_a[2];
+  }
+  if constexpr (BMoves) {
+    b.velocity = vb + r.inverse_mass_b * push;
+    b.omega = wb + du * r.spin_b[1] + dv * r.spin_b[2];
+  }
+}
+
 }  // namespace
 
 int solve_pair_contacts(std::vector<SolverBody>& bodies, std::span<PairContact> contacts,
@@ -96,20 +191,21 @@ int solve_pair_contacts(std::vector<SolverBody>& bodies, std::span<PairContact> 
                                  : Vec3(Vec3::UnitY().cross(n).normalized());
     r.v = n.cross(r.u);
     const std::array<Vec3, 3> directions = {n, r.u, r.v};
-    std::array<double, 3> masses;
     // (A static partner's arm, levers and spins are zero: not multiplied out.)
     const bool a_moves = a.inverse_mass > 0.0, b_moves = b.inverse_mass > 0.0;
+    r.moves = static_cast<std::uint8_t>((a_moves ? 1 : 0) | (b_moves ? 2 : 0));
     for (int k = 0; k < 3; ++k) {
       r.lever_a[k] = a_moves ? Vec3(c.arm_a.cross(directions[k])) : Vec3::Zero();
       r.lever_b[k] = b_moves ? Vec3(c.arm_b.cross(directions[k])) : Vec3::Zero();
-      r.spin_a[k] = a_moves ? Vec3(a.inverse_inertia * r.lever_a[k]) : Vec3::Zero();
-      r.spin_b[k] = b_moves ? Vec3(b.inverse_inertia * r.lever_b[k]) : Vec3::Zero();
-      masses[k] = 1.0 / (a.inverse_mass + b.inverse_mass + r.lever_a[k].dot(r.spin_a[k]) +
-                         r.lever_b[k].dot(r.spin_b[k]));
     }
-    r.mass_normal = masses[0];
-    r.mass_u = masses[1];
-    r.mass_v = masses[2];
+    r.spin_a[0] = a_moves ? Vec3(a.inverse_inertia * r.lever_a[0]) : Vec3::Zero();
+    r.spin_b[0] = b_moves ? Vec3(b.inverse_inertia * r.lever_b[0]) : Vec3::Zero();
+    r.mass_normal = 1.0 / (a.inverse_mass + b.inverse_mass + r.lever_a[0].dot(r.spin_a[0]) +
+                           r.lever_b[0].dot(r.spin_b[0]));
+    // The friction directions' spins and masses wait for prepare_friction; until then the
+    // friction impulses are zero, and so are the spins they would give.
+    r.spin_a[1] = r.spin_a[2] = r.spin_b[1] = r.spin_b[2] = Vec3::Zero();
+    r.friction_ready = false;
     r.friction = c.friction;
     r.normal_impulse = r.friction_u = r.friction_v = 0.0;
     const double approach = relative_speed(a, b, r, n, 0);
@@ -141,6 +237,9 @@ int solve_pair_contacts(std::vector<SolverBody>& bodies, std::span<PairContact> 
     }
     r.friction_u = fu;
     r.friction_v = fv;
+    // Without a normal impulse the friction is zero too (its disc is a point): nothing to apply.
+    if (!(r.normal_impulse > 0.0)) continue;
+    prepare_friction(bodies, r);
     SolverBody& a = bodies[r.a];
     SolverBody& b = bodies[r.b];
     apply(a, b, r, r.normal, 0, r.normal_impulse);
@@ -164,61 +263,31 @@ int solve_pair_contacts(std::vector<SolverBody>& bodies, std::span<PairContact> 
   while (sweeps < settings.iterations) {
     ++sweeps;
     for (ContactRow& r : rows) {
-      SolverBody& a = bodies[r.a];
-      SolverBody& b = bodies[r.b];
-      Vec3 va = a.velocity, wa = a.omega, vb = b.velocity, wb = b.omega;
-      const double vn = r.normal.dot(vb - va) + r.lever_b[0].dot(wb) - r.lever_a[0].dot(wa);
-      const double accumulated =
-          std::max(r.normal_impulse + (r.target_speed - vn) * r.mass_normal, 0.0);
-      const double dn = accumulated - r.normal_impulse;
-      r.normal_impulse = accumulated;
-      va -= (dn * r.inverse_mass_a) * r.normal;
-      wa -= dn * r.spin_a[0];
-      vb += (dn * r.inverse_mass_b) * r.normal;
-      wb += dn * r.spin_b[0];
-      // Friction on the disc of the normal impulse (none without one: a gap, or a contact
-      // pulled apart, which is most speculative contacts; skipped, it spares the clamp's root).
-      const double limit = r.friction * r.normal_impulse;
-      double fu = 0.0, fv = 0.0;
-      if (limit > 0.0) {
-        const Vec3 slide = vb - va;
-        fu = r.friction_u -
-             (r.u.dot(slide) + r.lever_b[1].dot(wb) - r.lever_a[1].dot(wa)) * r.mass_u;
-        fv = r.friction_v -
-             (r.v.dot(slide) + r.lever_b[2].dot(wb) - r.lever_a[2].dot(wa)) * r.mass_v;
-        const double squared = fu * fu + fv * fv;
-        if (squared > limit * limit) {
-          const double scale = limit / std::sqrt(squared);
-          fu *= scale;
-          fv *= scale;
-        }
-      }
-      const double du = fu - r.friction_u, dv = fv - r.friction_v;
-      r.friction_u = fu;
-      r.friction_v = fv;
-      const Vec3 push = du * r.u + dv * r.v;
-      // Nothing is written to a static partner (zero inverse mass and inertia: its velocities
-      // do not change). The engine's static partners are all one solver body: a store there
-      // chained every contact with a static partner to the one before it through memory, and
-      // the sweep's contacts could not overlap in the processor.
-      if (r.inverse_mass_a > 0.0) {
-        a.velocity = va - r.inverse_mass_a * push;
-        a.omega = wa - du * r.spin_a[1] - dv * r.spin_a[2];
-      }
-      if (r.inverse_mass_b > 0.0) {
-        b.velocity = vb + r.inverse_mass_b * push;
-        b.omega = wb + du * r.spin_b[1] + dv * r.spin_b[2];
+      switch (r.moves) {
+        case 1:
+          sweep_row<true, false>(bodies, r);
+          break;
+        case 2:
+          sweep_row<false, true>(bodies, r);
+          break;
+        default:
+          sweep_row<true, true>(bodies, r);
+          break;
       }
     }
-    double largest = 0.0;
+    // (Once one body has changed by the tolerance the sweep has not converged: the others'
+    // changes are not measured, only recorded.)
+    bool settled = true;
     for (std::uint32_t x : island) {
       SolverBody& body = bodies[x];
-      largest = std::max(largest, (body.velocity - body.swept_velocity).norm() +
-                                      (body.omega - body.swept_omega).norm() * body.reach_m);
+      if (settled && (body.velocity - body.swept_velocity).norm() +
+                             (body.omega - body.swept_omega).norm() * body.reach_m >=
+                         converged)
+        settled = false;
       body.swept_velocity = body.velocity;
       body.swept_omega = body.omega;
     }
-    if (largest < converged) break;
+    if (settled) break;
   }
   for (std::size_t i = 0; i < rows.size(); ++i) {
     const ContactRow& r = rows[i];

@@ -79,6 +79,8 @@ class ContactImpulses {
 // body (I^-1 (arm x direction)), so a sweep is dot products and adds.
 struct ContactRow {
   std::uint32_t a, b;
+  std::uint8_t moves;   // 1: a moves, 2: b moves, 3: both (a static partner's terms are zero)
+  bool friction_ready;  // spin_*[1, 2], mass_u and mass_v are set (filled when first needed)
   double inverse_mass_a, inverse_mass_b;
   Vec3 normal, u, v;
   std::array<Vec3, 3> lever_a, lever_b, spin_a, spin_b;

@@ -294,6 +294,15 @@ void place(const ConvexPiece& piece, const Vec3& position, const Mat3& rotation,
     out.edge_directions[e] = rotation * piece.edge_directions[e];
 }
 
+void grow_box(const ConvexPiece& piece, const Vec3& position, const Mat3& rotation, Vec3& min,
+              Vec3& max) {
+  for (const Vec3& v : piece.vertices) {
+    const Vec3 w = position + rotation * v;
+    min = min.cwiseMin(w);
+    max = max.cwiseMax(w);
+  }
+}
+
 namespace {
 
 void extent(const std::vector<Vec3>& vertices, const Vec3& axis, double& low, double& high) {

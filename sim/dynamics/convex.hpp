@@ -56,6 +56,11 @@ struct PlacedPiece {
   Vec3 min, max;                       // world box, m
 };
 void place(const ConvexPiece& piece, const Vec3& position, const Mat3& rotation, PlacedPiece& out);
+// The world box of the piece placed so, exactly the one place() gives (min and max are grown,
+// not reset): the broadphase needs every moving body's box each step, the narrowphase the
+// placed piece only for the pairs whose boxes meet.
+void grow_box(const ConvexPiece& piece, const Vec3& position, const Mat3& rotation, Vec3& min,
+              Vec3& max);
 
 // One contact point between piece a and piece b: the normal points from a to b.
 struct ContactPoint {

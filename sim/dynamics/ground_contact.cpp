@@ -16,6 +16,8 @@
 #include <array>
 #include <cmath>
 
+#include "sim/dynamics/coulomb.hpp"
+
 namespace brisance::dynamics {
 
 namespace {
@@ -263,17 +265,10 @@ struct Velocities {
       c.normal_impulse = accumulated;
       push(model, v, Vec3::UnitY(), c.normal, dn);
       // Coulomb friction against the sliding velocity, within mu times the normal impulse.
-      // (Squared magnitudes: std::hypot's overflow guard cost more than the rest of the sweep.)
       const Vec3 slip = v.linear + v.omega.cross(c.arm);
       double fx = c.friction_x - slip.x() / c.along_x.inverse_mass;
       double fz = c.friction_z - slip.z() / c.along_z.inverse_mass;
-      const double limit = ground.friction * c.normal_impulse;
-      const double squared = fx * fx + fz * fz;
-      if (squared > limit * limit) {
-        const double scale = limit / std::sqrt(squared);
-        fx *= scale;
-        fz *= scale;
-      }
+      clamp_to_friction_disc(fx, fz, ground.friction * c.normal_impulse);
       const double dx = fx - c.friction_x, dz = fz - c.friction_z;
       c.friction_x = fx;
       c.friction_z = fz;

@@ -92,8 +92,9 @@ std::optional<BudgetRefusal> refuse_before_run(const scene::Scene& scene, const 
         continue;
       }
       // Its fragments, each no smaller than the least a fragment can be: a triangular prism
-      // (6 vertices, 8 triangles), one load panel on each face (a fragment under 2 cm; larger
-      // ones have 5 to 16), its two faces and three sides for drag, named "<pane>/f<k>".
+      // (6 vertices, 8 triangles), one load panel on each face (a fragment under 2 cm or
+      // crossed within 2 cm of path; others have 5 to 16), its two faces and three sides for drag,
+      // named "<pane>/f<k>".
       BudgetTally::BodySize fragment;
       fragment.vertices = 6;
       fragment.triangles = 8;

@@ -1,9 +1,11 @@
 // sim/engine/collide: the step's phase of contacts between bodies (issue 13), after
 // integrate_awake — place the shapes, sweep and prune, narrowphase, one sequential-impulse solve
 // of the body contacts and the ground contacts of the bodies in them, then holds and sleeping:
-//   place          convex pieces to world frame (static bodies only when they have moved)
-//   broadphase     sort and sweep along x on world boxes grown by each body's motion in the step;
-//                  the order is kept from step to step, so the insertion sort is near linear
+//   place          world boxes (static bodies only when they have moved); a body's convex pieces
+//                  are placed in the world frame only when one of its pairs needs them
+//   broadphase     sort and sweep, along the axis of widest spread, on world boxes grown by each
+//                  body's motion in the step; the order is kept from step to step, so the
+//                  insertion sort is near linear
 //   narrowphase    separating axes between convex pieces (dynamics/convex.hpp), kept from step
 //                  to step while a pair's relative pose barely changes (PairCache)
 //   solve          dynamics/body_contact.hpp, with static partners (ground, anchored, held,
@@ -96,22 +98,8 @@ void Run::init_collisions() {
   state_.placed.resize(n);
   state_.placed_state.resize(n);
   state_.placed_valid.assign(n, 0);
-  state_.shape_box_centre.assign(n, Vec3::Zero());
-  state_.shape_box_half.assign(n, Vec3::Zero());
-  for (std::size_t b = 0; b < n; ++b) {
-    Vec3 low = Vec3::Constant(INFINITY), high = Vec3::Constant(-INFINITY);
-    for (const auto& piece : state_.shapes[b].pieces)
-      for (const Vec3& v : piece.vertices) {
-        low = low.cwiseMin(v);
-        high = high.cwiseMax(v);
-      }
-    if (state_.shapes[b].pieces.empty()) low = high = Vec3::Zero();
-    state_.shape_box_centre[b] = 0.5 * (low + high);
-    state_.shape_box_half[b] = 0.5 * (high - low);
-  }
-  state_.boxed_position.assign(n, Vec3::Zero());
-  state_.boxed_orientation.assign(n, dynamics::Quat::Identity());
-  state_.boxed_valid.assign(n, 0);
+  state_.box_state.resize(n);
+  state_.box_valid.assign(n, 0);
   state_.box_min.assign(n, Vec3::Zero());
   state_.box_max.assign(n, Vec3::Zero());
   state_.sweep_order.resize(n);
@@ -264,53 +252,116 @@ void Run::collide(double dt) {
       margin[b] += (s.velocity.norm() + spin) * dt;
       spin_margin[b] = spin * dt;
     }
-    if (!awake && state_.boxed_valid[b] && s.position == state_.boxed_position[b] &&
-        s.orientation.coeffs() == state_.boxed_orientation[b].coeffs())
+    if (!awake && state_.box_valid[b] && s.position == state_.box_state[b].position &&
+        s.orientation.coeffs() == state_.box_state[b].orientation.coeffs())
       continue;
     const Mat3 r = s.orientation.toRotationMatrix();
-    const Vec3 centre = s.position + r * state_.shape_box_centre[b];
-    const Vec3 half = r.cwiseAbs() * state_.shape_box_half[b];
-    state_.box_min[b] = centre - half;
-    state_.box_max[b] = centre + half;
-    state_.boxed_position[b] = s.position;
-    state_.boxed_orientation[b] = s.orientation;
-    state_.boxed_valid[b] = 1;
+    Vec3 low = Vec3::Constant(INFINITY), high = Vec3::Constant(-INFINITY);
+    for (const dynamics::ConvexPiece& piece : state_.shapes[b].pieces)
+      dynamics::grow_box(piece, s.position, r, low, high);
+    state_.box_min[b] = low;
+    state_.box_max[b] = high;
+    state_.box_state[b] = s;
+    state_.box_valid[b] = 1;
   }
   if (!any_awake) return;
   if (!state_.joined_pairs.empty()) part_joined_pairs();
 
-  // Broadphase: sort and sweep along x (insertion sort of last step's order).
+  // Broadphase: sort and sweep along the axis over which the boxes' centres spread most (a
+  // pane's fragments start side by side across it, a wall's bricks along it). The order is
+  // last step's, mended by insertion sort, unless the axis changed.
+  {
+    Vec3 sum = Vec3::Zero(), sum_squares = Vec3::Zero();
+    double count = 0.0;
+    for (std::uint32_t b = 0; b < n; ++b) {
+      if (state_.shapes[b].pieces.empty()) continue;
+      const Vec3 centre = 0.5 * (state_.box_min[b] + state_.box_max[b]);
+      sum += centre;
+      sum_squares += centre.cwiseProduct(centre);
+      count += 1.0;
+    }
+    const Vec3 spread = sum_squares - sum.cwiseProduct(sum) / std::max(count, 1.0);
+    int widest = 0;
+    spread.maxCoeff(&widest);
+    // Switch only to an axis clearly wider (twice the spread), not back and forth.
+    if (widest != state_.sweep_axis && spread[widest] > 2.0 * spread[state_.sweep_axis]) {
+      state_.sweep_axis = widest;
+      const int axis = widest;
+      std::sort(state_.sweep_order.begin(), state_.sweep_order.end(),
+                [&](std::uint32_t a, std::uint32_t b) {
+                  const double la = state_.box_min[a][axis] - margin[a];
+                  const double lb = state_.box_min[b][axis] - margin[b];
+                  return la != lb ? la < lb : a < b;
+                });
+    }
+  }
+  const int axis = state_.sweep_axis;
   auto& order = state_.sweep_order;
-  auto low_x = [&](std::uint32_t b) { return state_.box_min[b].x() - margin[b]; };
+  auto low_of = [&](std::uint32_t b) { return state_.box_min[b][axis] - margin[b]; };
   for (std::size_t i = 1; i < order.size(); ++i) {
     const std::uint32_t body = order[i];
-    const double key = low_x(body);
+    const double key = low_of(body);
     std::size_t j = i;
     while (j > 0 &&
-           (low_x(order[j - 1]) > key || (low_x(order[j - 1]) == key && order[j - 1] > body))) {
+           (low_of(order[j - 1]) > key || (low_of(order[j - 1]) == key && order[j - 1] > body))) {
       order[j] = order[j - 1];
       --j;
     }
     order[j] = body;
   }
+  // Awake and touching nothing: neither the ground in this step's integration nor a body in
+  // the last step's contacts.
+  auto in_flight = [&](std::uint32_t b) {
+    return state_.motion[b] == Motion::awake && !state_.touching_ground[b] &&
+           !state_.touched_body[b];
+  };
+  // `auto`: a fragment and a body both in flight: their margin is their motion relative to
+  // each other in the step (plus kContactMargin_m), not each one's own, and the pair is
+  // skipped here if their boxes are farther apart than that: however fast both fly, they
+  // cannot meet in the step (fragments of one pane flying side by side, whose own margins,
+  // grown by their speeds, overlap: 535 contact points on window.json against 19, and with
+  // 579 fragments a speculative contact between most neighbours in every step). Only in
+  // flight, where only this step's contacts change the velocities. Only with a fragment: for
+  // all pairs, leaving out the inert speculative contacts of bricks falling side by side
+  // changed the islands' solve enough that 5 of the 30 towers of
+  // Stability.BrickTowerStandsWhateverTheDrop fell and BoxPyramidSettles failed. In the sweep,
+  // so that a pane's thousands of pieces flying side by side cost no more than their boxes'
+  // test (sorted with the other pairs they took a fifth of window.json's run).
+  auto relative_margin = [&](std::uint32_t a, std::uint32_t b) {
+    const Vec3 relative = (state_.bodies[b].velocity - state_.bodies[a].velocity) * dt;
+    return kContactMargin_m + relative.norm() + spin_margin[a] + spin_margin[b];
+  };
+  const bool cull_in_flight = model_.collisions == Collisions::automatic;
   auto& pairs = state_.pairs;
   pairs.clear();
+  std::uint64_t culled = 0;
   for (std::size_t i = 0; i < order.size(); ++i) {
     const std::uint32_t a = order[i];
     if (state_.shapes[a].pieces.empty()) continue;
-    const double high_x = state_.box_max[a].x() + margin[a];
-    for (std::size_t k = i + 1; k < order.size() && low_x(order[k]) <= high_x; ++k) {
+    const double high = state_.box_max[a][axis] + margin[a];
+    const bool a_awake = state_.motion[a] == Motion::awake;
+    const bool a_flies = cull_in_flight && in_flight(a);
+    for (std::size_t k = i + 1; k < order.size() && low_of(order[k]) <= high; ++k) {
       const std::uint32_t b = order[k];
-      if (state_.motion[a] != Motion::awake && state_.motion[b] != Motion::awake) continue;
+      if (!a_awake && state_.motion[b] != Motion::awake) continue;
       const double grow = margin[a] + margin[b];
       if ((state_.box_min[a].array() > state_.box_max[b].array() + grow).any() ||
           (state_.box_min[b].array() > state_.box_max[a].array() + grow).any())
         continue;
+      if (a_flies && (model_.fragment[a] || model_.fragment[b]) && in_flight(b)) {
+        const double near = relative_margin(a, b);
+        if ((state_.box_min[a].array() > state_.box_max[b].array() + near).any() ||
+            (state_.box_min[b].array() > state_.box_max[a].array() + near).any()) {
+          ++culled;
+          continue;
+        }
+      }
       pairs.emplace_back(std::min(a, b), std::max(a, b));
     }
   }
   std::sort(pairs.begin(), pairs.end());
-  result_.stats.collision_pairs += pairs.size();
+  result_.stats.collision_pairs += pairs.size() + culled;
+  result_.stats.collision_pairs_skipped += culled;
 
   // Narrowphase. An asleep body met by a moving one wakes up.
   // (The step's buffers live in the state, to spare their allocations; solver_index is left
@@ -326,7 +377,10 @@ void Run::collide(double dt) {
     if (solver_index[b] < 0) {
       const dynamics::BodyModel& body = model_.bodies[b];
       const dynamics::BodyState& s = state_.bodies[b];
-      dynamics::SolverBody sb;
+      solver_index[b] = static_cast<std::int32_t>(solver.size());
+      // Filled in place: a local copy trips GCC 12's -Wmaybe-uninitialized at -O1 (the
+      // sanitizer build) inside Eigen's assignment.
+      dynamics::SolverBody& sb = solver.emplace_back();
       sb.velocity = s.velocity;
       sb.inverse_mass = body.inverse_mass;
       if (body.rotates) {
@@ -334,17 +388,9 @@ void Run::collide(double dt) {
         sb.inverse_inertia = r * body.inverse_inertia_body * r.transpose();
         sb.omega = sb.inverse_inertia * s.angular_momentum;
       }
-      solver_index[b] = static_cast<std::int32_t>(solver.size());
-      solver.push_back(sb);
       solver_body.push_back(b);
     }
     return static_cast<std::uint32_t>(solver_index[b]);
-  };
-  // Awake and touching nothing: neither the ground in this step's integration nor a body in
-  // the last step's contacts.
-  auto in_flight = [&](std::uint32_t b) {
-    return state_.motion[b] == Motion::awake && !state_.touching_ground[b] &&
-           !state_.touched_body[b];
   };
   auto moving = [&](std::uint32_t b) {
     return state_.motion[b] == Motion::awake && state_.rest_time_s[b] == 0.0;
@@ -390,27 +436,9 @@ void Run::collide(double dt) {
       }
     }
     double pair_margin = margin[a] + margin[b];
-    if (model_.collisions == Collisions::automatic && (model_.fragment[a] || model_.fragment[b]) &&
-        in_flight(a) && in_flight(b)) {
-      // A fragment and a body in flight: their margin is their motion relative to each other
-      // in the step (plus kContactMargin_m), not each one's own, and the pair is skipped if
-      // their boxes are farther apart than that: however fast both fly, they cannot meet in
-      // the step (fragments of one pane flying side by side, whose own margins, grown by their
-      // speeds, overlap: 535 contact points on window.json against 19, and with 579 fragments
-      // a speculative contact between most neighbours in every step). Only in flight, where
-      // only this step's contacts change the velocities. Only with a fragment: for all pairs,
-      // leaving out the inert speculative contacts of bricks falling side by side changed the
-      // islands' solve enough that 5 of the 30 towers of
-      // Stability.BrickTowerStandsWhateverTheDrop fell and BoxPyramidSettles failed.
-      const Vec3 relative = (state_.bodies[b].velocity - state_.bodies[a].velocity) * dt;
-      const double grow = kContactMargin_m + relative.norm() + spin_margin[a] + spin_margin[b];
-      if ((state_.box_min[a].array() > state_.box_max[b].array() + grow).any() ||
-          (state_.box_min[b].array() > state_.box_max[a].array() + grow).any()) {
-        ++result_.stats.collision_pairs_skipped;
-        continue;
-      }
-      pair_margin = std::min(pair_margin, grow);
-    }
+    if (cull_in_flight && (model_.fragment[a] || model_.fragment[b]) && in_flight(a) &&
+        in_flight(b))
+      pair_margin = std::min(pair_margin, relative_margin(a, b));  // (culled in the sweep)
     const dynamics::BodyState& sa = state_.bodies[a];
     const dynamics::BodyState& sb = state_.bodies[b];
     const Mat3 ra = sa.orientation.toRotationMatrix();

@@ -74,8 +74,12 @@ void prepare_world(const scene::Scene& scene, Model& model) {
   model.timing.tolerance = sim.tolerance;
   model.timing.sleep = sim.sleep;
   model.timing.body_substeps = sim.body_substeps;
+  model.timing.turn_substeps =
+      sim.body_substeps || (sim.collisions != scene::CollisionMode::off &&
+                            sim.integrator == scene::Integrator::semi_implicit_euler);
   // The same turn per step as the adaptive step allows everyone (run.cpp, next_step).
-  if (sim.body_substeps) model.world.max_turn_per_substep_rad = 2.0 * std::sqrt(sim.tolerance);
+  if (model.timing.turn_substeps)
+    model.world.max_turn_per_substep_rad = 2.0 * std::sqrt(sim.tolerance);
   model.collisions = sim.collisions == scene::CollisionMode::on    ? Collisions::on
                      : sim.collisions == scene::CollisionMode::off ? Collisions::off
                                                                    : Collisions::automatic;

@@ -57,8 +57,9 @@ struct Stats {
   std::uint64_t panes_broken = 0;        // breakable panes cut into fragments
   std::uint64_t panes_not_broken = 0;    // stress below strength: no fracture work at all
   std::uint64_t fragments = 0;           // fragment bodies made
-  // Load panels not made: a fragment under 2 cm takes one panel a face instead of 5-16, which
-  // carry the same pressure on it (docs/fracture.md, "Performance").
+  // Load panels not made: a fragment under 2 cm, or one every wave crosses within 2 cm of path,
+  // takes one panel a face instead of 5-16, which carry nearly the same pressure on it
+  // (docs/fracture.md, "Performance").
   std::uint64_t panels_merged = 0;
   // Contacts between bodies (issue 13), summed over steps: pairs whose boxes met (broadphase),
   // pairs skipped by `collisions: "auto"` (moving apart, not touching last step), and contact

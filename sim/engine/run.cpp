@@ -369,7 +369,7 @@ double Run::next_step(double t, double until) const {
   double dt = std::min(1.0 / sim.frame_rate_hz, 0.3 * fraction);
   if (state_.min_active_duration_s < INFINITY)
     dt = std::min(dt, fraction * state_.min_active_duration_s);
-  if (state_.max_angular_speed_rad_s > 0.0 && !sim.body_substeps)
+  if (state_.max_angular_speed_rad_s > 0.0 && !sim.turn_substeps)
     dt = std::min(dt, 2.0 * fraction / state_.max_angular_speed_rad_s);
   if (state_.min_contact_time_s < INFINITY && !sim.body_substeps)
     dt = std::min(dt, 10.0 * fraction * state_.min_contact_time_s);

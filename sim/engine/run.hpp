@@ -100,17 +100,16 @@ struct RunState {
   // kept from step to step (nearly sorted: insertion sort), last step's impulses, and whether
   // each body touched another body last step (for sleeping).
   std::vector<dynamics::CollisionShape> shapes;
+  // Each body's world box is found every step it moves; its pieces are placed only when a pair
+  // reaches the narrowphase (most fragments never do).
   std::vector<std::vector<dynamics::PlacedPiece>> placed;
-  std::vector<dynamics::BodyState> placed_state;  // the state each body was placed at
+  std::vector<dynamics::BodyState> placed_state;  // the state each body's pieces were placed at
   std::vector<std::uint8_t> placed_valid;
-  std::vector<Vec3> box_min, box_max;  // world boxes of the shapes (not grown by any margin)
-  // Each shape's box in its body's frame (centre and half sizes, from the centre of mass, m),
-  // and the pose each body's world box was found at.
-  std::vector<Vec3> shape_box_centre, shape_box_half;
-  std::vector<Vec3> boxed_position;
-  std::vector<dynamics::Quat> boxed_orientation;
-  std::vector<std::uint8_t> boxed_valid;
+  std::vector<dynamics::BodyState> box_state;  // the state each body's box was found at
+  std::vector<std::uint8_t> box_valid;
+  std::vector<Vec3> box_min, box_max;  // world boxes (each body's margin is added where used)
   std::vector<std::uint32_t> sweep_order;
+  int sweep_axis = 0;  // the axis the sweep order sorts along: the one of widest spread
   dynamics::ContactImpulses contact_impulses, next_contact_impulses;
   double contact_impulses_dt_s = 0.0;  // the step contact_impulses were solved in
   std::vector<std::uint8_t> touching_body;

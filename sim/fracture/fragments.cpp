@@ -374,11 +374,11 @@ FracturePattern extract_fragments(const CrackTree& tree, double width_m, double 
 }
 
 FracturePattern fracture(const FractureParams& params, const StopRequest& stop) {
-  if (params.kind == FractureParams::Kind::dice) return dice_pattern(params);
-  if (params.kind == FractureParams::Kind::radial_ring)
-    return extract_fragments(radial_ring_cracks(params), params.width_m, params.height_m);
-  const CrackTree tree = grow_crack_tree(params, stop);
-  if (tree.stopped) {
+  if (params.kind == FractureParams::Kind::dice) return dice_pattern(params, stop);
+  const CrackTree tree = params.kind == FractureParams::Kind::radial_ring
+                             ? radial_ring_cracks(params, stop)
+                             : grow_crack_tree(params, stop);
+  if (tree.stopped || (stop && stop())) {
     FracturePattern pattern;
     pattern.width_m = params.width_m;
     pattern.height_m = params.height_m;

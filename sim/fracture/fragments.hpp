@@ -42,7 +42,10 @@ struct FracturePattern {
 // walks every bounded face by next-edge-around-vertex traversal.
 FracturePattern extract_fragments(const CrackTree& tree, double width_m, double height_m);
 
-// grow_crack_tree followed by extract_fragments; nothing extracted if `stop` ended the growth.
+// The pattern of params.kind: grow_crack_tree or radial_ring_cracks followed by
+// extract_fragments, or dice_pattern. `stop` is polled while the cracks or the dice are made and
+// once more before the fragments are extracted; nothing extracted if it ended the build
+// (`stopped`).
 FracturePattern fracture(const FractureParams& params, const StopRequest& stop = {});
 
 }  // namespace brisance::fracture

@@ -7,6 +7,7 @@
 #include <deque>
 #include <numbers>
 #include <random>
+#include <set>
 
 #include "sim/geometry/polygon.hpp"
 
@@ -273,7 +274,12 @@ double dice_cell_m(double surface_compression_pa, double fracture_toughness_pa_s
   return 2.5 * temper_energy_ratio() * k_c * k_c / ((1.0 - poisson_ratio) * sigma_m * sigma_m);
 }
 
-CrackTree radial_ring_cracks(const FractureParams& params) {
+CrackTree radial_ring_cracks(const FractureParams& params, const StopRequest& stop) {
+  const auto stopped = [&] {
+    CrackTree abandoned;
+    abandoned.stopped = true;
+    return abandoned;
+  };
   const double w = params.width_m;
   const double h = params.height_m;
   const Vec2 origin =
@@ -295,40 +301,30 @@ CrackTree radial_ring_cracks(const FractureParams& params) {
   }
   const double total = cumulative.back();
   const double start = random.uniform();
-  // The arms' spacing varies as the branch angle does (thesis fig. 5.12: beta +- V/2): each arm
-  // lies within +- V / (2 beta) of its share around its share's middle.
+  // The arms' spacing varies as the branch angle does (thesis fig. 5.12: beta +- V/2), fork by
+  // fork: a new arm splits the share of the gap it is born into within +- V / (2 beta) of its
+  // nominal place, so the shares of later arms are products of their ancestors' splits.
   const double jitter =
       params.branch_angle_deg > 0.0
           ? std::min(1.0, 0.5 * params.angle_variance_deg / params.branch_angle_deg)
           : 0.0;
   std::vector<Arm> arms(static_cast<std::size_t>(n));
   std::vector<double> zone(static_cast<std::size_t>(n));  // the branching zone along each arm
-  for (int i = 0; i < n; ++i) {
-    const double u = (i + start + jitter * random.symmetric()) / n;  // in share i, jittered
-    const double target = std::fmod(u + 1.0, 1.0) * total;
-    const auto it = std::upper_bound(cumulative.begin(), cumulative.end(), target);
-    const int k = std::clamp(static_cast<int>(it - cumulative.begin()) - 1, 0, kDirections - 1);
-    const double within = (target - cumulative[k]) / (cumulative[k + 1] - cumulative[k]);
-    arms[i].angle = offset + 2.0 * kPi * (k + within) / kDirections;
-    zone[i] = rays[k].peak_r;
-  }
-  std::sort(arms.begin(), arms.end(), [](const Arm& a, const Arm& b) { return a.angle < b.angle; });
-  // (zone follows the angle closely enough: re-read it for the sorted arms)
-  for (int i = 0; i < n; ++i) {
-    double a = std::fmod(arms[i].angle - offset, 2.0 * kPi);
-    if (a < 0.0) a += 2.0 * kPi;
-    const int k = std::clamp(static_cast<int>(a / (2.0 * kPi) * kDirections), 0, kDirections - 1);
-    zone[i] = rays[k].peak_r;
-  }
+  // u: each arm's place in the cumulative of rho (0..1 once round), increasing with the index.
+  std::vector<double> u(static_cast<std::size_t>(n) + 1);
 
-  // 2. Who branches off whom, and where: the first crack runs both ways through the origin
-  // (arms 0 and n/2); the gaps between born arms are then halved breadth-first, a new arm
-  // branching off one of the gap's two arms. The k-th arm is born where the star has k arms,
-  // at k / n of its direction's branching zone (n(r) grows about linearly there).
+  // 2. Who branches off whom, where, and in which direction: the first crack runs both ways
+  // through the origin (arms 0 and n/2); the gaps between born arms are then split
+  // breadth-first, a new arm branching off one of the gap's two arms. The k-th arm is born
+  // where the star has k arms, at k / n of its direction's branching zone (n(r) grows about
+  // linearly there).
   std::vector<int> order;
+  u[0] = start / n;
+  u[static_cast<std::size_t>(n)] = u[0] + 1.0;
   order.push_back(0);
   arms[0].parent = -1;
   if (n > 1) {
+    u[static_cast<std::size_t>(n / 2)] = u[0] + static_cast<double>(n / 2) / n;
     order.push_back(n / 2);
     arms[n / 2].parent = -1;
   }
@@ -342,10 +338,21 @@ CrackTree radial_ring_cracks(const FractureParams& params) {
     if (j - i < 2) continue;
     const int mid = (i + j) / 2;
     const int m = mid % n;
+    const double nominal = static_cast<double>(mid - i) / (j - i);
+    const double split = nominal + jitter * std::min(nominal, 1.0 - nominal) * random.symmetric();
+    u[static_cast<std::size_t>(mid)] = u[i] + split * (u[j] - u[i]);
     arms[m].parent = random.uniform() < 0.5 ? i % n : j % n;
     order.push_back(m);
     gaps.emplace_back(i, mid);
     gaps.emplace_back(mid, j);
+  }
+  for (int i = 0; i < n; ++i) {
+    const double target = std::fmod(u[i], 1.0) * total;
+    const auto it = std::upper_bound(cumulative.begin(), cumulative.end(), target);
+    const int k = std::clamp(static_cast<int>(it - cumulative.begin()) - 1, 0, kDirections - 1);
+    const double within = (target - cumulative[k]) / (cumulative[k + 1] - cumulative[k]);
+    arms[i].angle = offset + 2.0 * kPi * (k + within) / kDirections;
+    zone[i] = rays[k].peak_r;
   }
   for (std::size_t rank = 2; rank < order.size(); ++rank) {
     const int m = order[rank];
@@ -361,10 +368,13 @@ CrackTree radial_ring_cracks(const FractureParams& params) {
   const bool wiggles = params.wiggle_probability > 0.0 && params.wiggle_variance_deg > 0.0;
   const double wiggle_step = step * std::tan(0.25 * params.wiggle_variance_deg * kPi / 180.0);
   SegmentGrid grid(w, h, 4.0 * step);
-  for (const int m : order) {
-    Arm& arm = arms[m];
+  // Whether an arm ran out of the pane (it then bounds its sector beyond the outline too).
+  std::vector<char> left_pane(arms.size(), 0);
+  const auto grow = [&](int m) {
+    Arm& arm = arms[static_cast<std::size_t>(m)];
     Vec2 at = origin;
-    if (arm.parent >= 0 && !point_at(arms[arm.parent], arm.birth_r, at)) continue;
+    if (arm.parent >= 0 && !point_at(arms[static_cast<std::size_t>(arm.parent)], arm.birth_r, at))
+      return;
     const Vec2 dir(std::cos(arm.angle), std::sin(arm.angle));
     const Vec2 side(-dir.y(), dir.x());
     arm.points.push_back(at);
@@ -382,7 +392,84 @@ CrackTree radial_ring_cracks(const FractureParams& params) {
       arm.points.push_back(next);
       // Distances from the origin, kept increasing for point_at (a wiggle may step back a hair).
       arm.radii.push_back(std::max((next - origin).norm(), arm.radii.back()));
-      if (stops || next.x() <= 0.0 || next.x() >= w || next.y() <= 0.0 || next.y() >= h) break;
+      const bool out = next.x() <= 0.0 || next.x() >= w || next.y() <= 0.0 || next.y() >= h;
+      if (out && !stops) left_pane[static_cast<std::size_t>(m)] = 1;
+      if (stops || out) break;
+    }
+  };
+  for (const int m : order) {
+    if (stop && stop()) return stopped();
+    grow(m);
+  }
+
+  // 4. Branching again: an arm that stopped on another (or was never born) leaves its share to
+  // its neighbours, whose stress intensity rises as they run on. Outward, radius by radius, a
+  // gap between running arms branches when it alone holds more than two arms' shares of the
+  // star there, n (u_gap) (r phi^2 / peak) > 2 along its middle direction — each of its two tips
+  // then has more than a whole share, so more than the branching intensity — with a new arm
+  // split off as a fork splits its gap, born off one of the two at that radius. Capped at
+  // kMaxRadialCracks arms in all.
+  const double last_r =
+      std::hypot(std::max(origin.x(), w - origin.x()), std::max(origin.y(), h - origin.y()));
+  const auto ray_index = [&](double um) {
+    const double target = std::fmod(um, 1.0) * total;
+    const auto it = std::upper_bound(cumulative.begin(), cumulative.end(), target);
+    const int k = std::clamp(static_cast<int>(it - cumulative.begin()) - 1, 0, kDirections - 1);
+    return std::pair<int, double>(k,
+                                  (target - cumulative[k]) / (cumulative[k + 1] - cumulative[k]));
+  };
+  u.resize(arms.size());
+  std::vector<int> running;
+  // Pairs of neighbours that have branched into their gap once: a branch that stops at once
+  // (the wiggle runs it back into its parent) does not make the pair branch again and again.
+  std::set<std::pair<int, int>> branched;
+  for (double r = 4.0 * step; r < last_r; r += 2.0 * step) {
+    if (stop && stop()) return stopped();
+    running.clear();
+    for (int m = 0; m < static_cast<int>(arms.size()); ++m) {
+      const Arm& arm = arms[static_cast<std::size_t>(m)];
+      if (arm.radii.empty() || arm.radii.front() > r) continue;
+      if (arm.radii.back() > r || left_pane[static_cast<std::size_t>(m)]) running.push_back(m);
+    }
+    if (running.size() < 2) continue;
+    std::sort(running.begin(), running.end(), [&](int a, int b) {
+      return std::fmod(u[static_cast<std::size_t>(a)], 1.0) <
+             std::fmod(u[static_cast<std::size_t>(b)], 1.0);
+    });
+    const std::size_t count = running.size();
+    for (std::size_t s = 0; s < count; ++s) {
+      if (arms.size() >= static_cast<std::size_t>(FractureParams::kMaxRadialCracks)) break;
+      const int a = running[s];
+      const int b = running[(s + 1) % count];
+      const double ua = std::fmod(u[static_cast<std::size_t>(a)], 1.0);
+      double gap = std::fmod(u[static_cast<std::size_t>(b)], 1.0) - ua;
+      if (gap <= 0.0) gap += 1.0;
+      const auto [k_mid, within_mid] = ray_index(ua + 0.5 * gap);
+      const double mid_angle = offset + 2.0 * kPi * (k_mid + within_mid) / kDirections;
+      const Vec2 at = origin + r * Vec2(std::cos(mid_angle), std::sin(mid_angle));
+      if (at.x() <= 0.0 || at.x() >= w || at.y() <= 0.0 || at.y() >= h) continue;
+      const double phi = stress_shape(at.x(), at.y(), w, h);
+      if (!(gap * n * r * phi * phi > 2.0 * rays[static_cast<std::size_t>(k_mid)].peak)) continue;
+      if (!branched.emplace(a, b).second) continue;
+      // The new arm: the gap split as a fork splits it, off the neighbour that reaches r.
+      const double split = 0.5 + 0.5 * jitter * random.symmetric();
+      const int parent = random.uniform() < 0.5 ? a : b;
+      Vec2 p;
+      const int from = point_at(arms[static_cast<std::size_t>(parent)], r, p) ? parent
+                       : point_at(arms[static_cast<std::size_t>(parent == a ? b : a)], r, p)
+                           ? (parent == a ? b : a)
+                           : -1;
+      if (from < 0) continue;
+      const auto [k, within] = ray_index(ua + split * gap);
+      Arm arm;
+      arm.angle = offset + 2.0 * kPi * (k + within) / kDirections;
+      arm.parent = from;
+      arm.birth_r = r;
+      const int m = static_cast<int>(arms.size());
+      arms.push_back(std::move(arm));
+      u.push_back(ua + split * gap);
+      left_pane.push_back(0);
+      grow(m);
     }
   }
 
@@ -390,10 +477,11 @@ CrackTree radial_ring_cracks(const FractureParams& params) {
   for (const Arm& arm : arms)
     add_clipped(arm.points, w, h, tree);
 
-  // 4. Rings: in each sector between neighbouring arms that exist at the ring's radius, a ring
+  // 5. Rings: in each sector between neighbouring arms that exist at the ring's radius, a ring
   // piece from one arm to the other (its radius jittered by up to 4 % per sector, so the pieces
   // of neighbouring sectors meet an arm at different points, as in photographs).
   for (const double ring : params.radial.ring_radii_m) {
+    if (stop && stop()) return stopped();
     // The arms that reach the ring, in the order of their angle there: an arm that stopped on
     // another or at the outline before it has no share of it.
     struct AtRing {
@@ -438,12 +526,19 @@ CrackTree radial_ring_cracks(const FractureParams& params) {
   return tree;
 }
 
-FracturePattern dice_pattern(const FractureParams& params) {
+FracturePattern dice_pattern(const FractureParams& params, const StopRequest& stop) {
   const double w = params.width_m;
   const double h = params.height_m;
   FracturePattern pattern;
   pattern.width_m = w;
   pattern.height_m = h;
+  const auto stopped = [&] {
+    FracturePattern abandoned;
+    abandoned.width_m = w;
+    abandoned.height_m = h;
+    abandoned.stopped = true;
+    return abandoned;
+  };
   const int nx = std::max(1, static_cast<int>(std::lround(w / params.dice_cell_m)));
   const int ny = std::max(1, static_cast<int>(std::lround(h / params.dice_cell_m)));
   const double dx = w / nx;
@@ -456,6 +551,7 @@ FracturePattern dice_pattern(const FractureParams& params) {
   };
   std::vector<Vec2> nodes(static_cast<std::size_t>(nx + 1) * static_cast<std::size_t>(ny + 1));
   for (int j = 0; j <= ny; ++j) {
+    if (stop && stop()) return stopped();
     for (int i = 0; i <= nx; ++i) {
       double x = i * dx;
       double y = j * dy;
@@ -470,6 +566,7 @@ FracturePattern dice_pattern(const FractureParams& params) {
   }
   pattern.fragments.reserve(static_cast<std::size_t>(nx) * static_cast<std::size_t>(ny));
   for (int j = 0; j < ny; ++j) {
+    if (stop && stop()) return stopped();
     for (int i = 0; i < nx; ++i) {
       Fragment cell;
       cell.polygon_m = {nodes[index(i, j)], nodes[index(i + 1, j)], nodes[index(i + 1, j + 1)],

@@ -81,10 +81,15 @@ double dice_cell_m(double surface_compression_pa, double fracture_toughness_pa_s
                    double poisson_ratio = kGlassPoissonRatio);
 
 // The crack segments of a radial_ring pattern (params.kind radial_ring), for extract_fragments.
-CrackTree radial_ring_cracks(const FractureParams& params);
+// `stop` is polled before each arm and each ring (a few to some hundred microseconds of work
+// apart); when it returns true the build is abandoned and the tree comes back `stopped`, with
+// no segments.
+CrackTree radial_ring_cracks(const FractureParams& params, const StopRequest& stop = {});
 
 // A dice pattern (params.kind dice): quadrilateral cells on a jittered grid, made directly.
-FracturePattern dice_pattern(const FractureParams& params);
+// `stop` is polled once per row of cells; when it returns true the pattern comes back
+// `stopped`, with no fragments.
+FracturePattern dice_pattern(const FractureParams& params, const StopRequest& stop = {});
 
 // The most fragments in any square window of `window_m` on a side of the pane, and the fewest,
 // counting a fragment in a window when its centroid lies in it (EN 12150-1 §8's count: pieces

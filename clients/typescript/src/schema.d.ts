@@ -986,8 +986,9 @@ export interface components {
             /** @description The wave arrived after the run ended. */
             panels_not_reached: number;
             /**
-             * @description Load panels not made: a glass fragment under 2 cm across (tempered glass's dice)
-             *     takes one panel a face instead of 5 to 16, which would carry the same pressure.
+             * @description Load panels not made: a glass fragment under 2 cm across (tempered glass's dice),
+             *     or one every wave crosses within 2 cm of path, takes one panel a face instead of 5
+             *     to 16, which would carry nearly the same pressure.
              */
             panels_merged: number;
             /** @description Bodies integrated, summed over steps. */

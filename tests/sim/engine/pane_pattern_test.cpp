@@ -3,6 +3,9 @@
 // (docs/fracture.md).
 #include "sim/engine/pane_pattern.hpp"
 
+#include <algorithm>
+#include <cmath>
+
 #include <gtest/gtest.h>
 
 #include "sim/fracture/fragments.hpp"
@@ -91,6 +94,29 @@ TEST(PanePattern, NoFragmentAboveFivePercentOfAPaneAtTwiceItsBreakingPressure) {
     EXPECT_NEAR(total, 1.2 * 0.9, 1e-9);
     EXPECT_LT(largest / total, 0.05)
         << "seed " << k + 1 << ": " << broken[k].fragments.size() << " fragments";
+  }
+}
+
+TEST(PanePattern, FragmentAreasSpreadAsBrokenGlassDoesAtTwiceItsBreakingPressure) {
+  // Issue 11: p90 / p10 of the fragment areas at least 20, the spread of real broken glass, for
+  // window.json's pane at twice its breaking pressure (seeds 1-8; nearest-rank quantiles, as
+  // the result's frontal_area_m2 distribution). Before the arms split their shares fork by fork
+  // and branched again where a stopped arm left its neighbours too wide a share
+  // (docs/fracture.md), it was 12.0-26.0, below 20 for seeds 2, 3, 5 and 6.
+  std::vector<fracture::FracturePattern> broken;
+  window_patterns(2.0, 8, broken);
+  for (std::size_t k = 0; k < broken.size(); ++k) {
+    std::vector<double> areas;
+    for (const fracture::Fragment& f : broken[k].fragments)
+      areas.push_back(f.area_m2);
+    std::sort(areas.begin(), areas.end());
+    const auto rank = [&](double q) {
+      const auto i = static_cast<std::size_t>(std::ceil(q * static_cast<double>(areas.size())));
+      return areas[std::max<std::size_t>(i, 1) - 1];
+    };
+    EXPECT_GE(rank(0.9) / rank(0.1), 20.0)
+        << "seed " << k + 1 << ": " << areas.size() << " fragments, p10 " << rank(0.1) * 1e4
+        << " cm2, p90 " << rank(0.9) * 1e4 << " cm2";
   }
 }
 

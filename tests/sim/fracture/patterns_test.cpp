@@ -93,6 +93,43 @@ TEST(RadialRing, FirstRingIsWhereTheWedgeReachesTheStrength) {
   EXPECT_TRUE(ring_radii_m(1e3, 45e6, 0.006, 0.75).empty());  // x_1 = 1.27 m: beyond the pane
 }
 
+// A stop request that says "stop" from its `at`-th call on, counting its calls.
+struct CountingStop {
+  int at = 0;
+  int calls = 0;
+  StopRequest request() {
+    return [this] { return ++calls >= at; };
+  }
+};
+
+TEST(RadialRing, AStopRequestEndsTheBuildWithinOneArm) {
+  // A job's cancel or time limit reaches the radial pattern while it is built (as the crack tree
+  // polls its growth): before each arm and each ring. Before, radial_ring_cracks took no stop
+  // request and fracture() built the whole pattern whatever it said.
+  const FractureParams p = radial(1.2, 0.9, 2048, {0.14, 0.23, 0.3, 0.36, 0.42, 0.5, 0.6}, 1);
+  ASSERT_EQ(validate(p), std::nullopt);
+  CountingStop never{1 << 30};
+  const CrackTree whole = radial_ring_cracks(p, never.request());
+  EXPECT_FALSE(whole.stopped);
+  EXPECT_FALSE(whole.segments.empty());
+  EXPECT_GE(never.calls, 2048 + 7);  // an arm (some microseconds) or a ring apart
+  for (const int at : {1, 3, 1000, 2050}) {
+    CountingStop stop{at};
+    const CrackTree tree = radial_ring_cracks(p, stop.request());
+    EXPECT_TRUE(tree.stopped) << at;
+    EXPECT_TRUE(tree.segments.empty()) << at;
+    EXPECT_EQ(stop.calls, at);  // returned at the first "stop"
+    CountingStop again{at};
+    const FracturePattern pattern = fracture(p, again.request());
+    EXPECT_TRUE(pattern.stopped) << at;
+    EXPECT_TRUE(pattern.fragments.empty()) << at;
+    EXPECT_EQ(again.calls, at);
+  }
+  // A stop after the cracks, before the fragments are extracted.
+  CountingStop late{never.calls + 1};
+  EXPECT_TRUE(fracture(p, late.request()).stopped);
+}
+
 TEST(Dice, CellSizeFollowsTheTemperEnergy) {
   // The reference point sets eta: 69 MPa gives 40 cells per 50 mm x 50 mm (d = 7.9 mm); the cell
   // goes as (K_c / sigma)^2.
@@ -119,6 +156,27 @@ TEST(Dice, CellsPartitionThePaneAndCountAsEn12150Does) {
   EXPECT_LE(count.most, 115u);
   p.dice_cell_m = 1e-5;  // 1.5e9 cells: refused
   EXPECT_NE(validate(p), std::nullopt);
+}
+
+TEST(Dice, AStopRequestEndsTheBuildWithinOneRow) {
+  // A cancel reaches the dice while they are made, once per row of cells (under a millisecond of
+  // work for the largest pane allowed). Before, dice_pattern took no stop request.
+  FractureParams p;
+  p.width_m = 1.2;
+  p.height_m = 0.9;
+  p.kind = FractureParams::Kind::dice;
+  p.dice_cell_m = 0.002;  // 600 x 450 cells
+  ASSERT_EQ(validate(p), std::nullopt);
+  CountingStop never{1 << 30};
+  EXPECT_EQ(dice_pattern(p, never.request()).fragments.size(), 600u * 450u);
+  EXPECT_GE(never.calls, 2 * 450);
+  for (const int at : {1, 200, 700}) {
+    CountingStop stop{at};
+    const FracturePattern dice = fracture(p, stop.request());
+    EXPECT_TRUE(dice.stopped) << at;
+    EXPECT_TRUE(dice.fragments.empty()) << at;
+    EXPECT_EQ(stop.calls, at);
+  }
 }
 
 }  // namespace

@@ -18,7 +18,7 @@ const STAT_LABELS: Record<string, string> = {
   fragments_held_by_frame: "Glass fragments held by their frame", bodies_slept: "Slept",
   bodies_static_in_frames: "Stored once (static)", panels: "Load panels", panels_loaded: "Panels loaded",
   panels_back_facing: "Panels sheltered from every charge", panels_not_reached: "Panels not reached",
-  panels_merged: "Panels merged (fragments under 2 cm)",
+  panels_merged: "Panels merged (fragments the wave crosses within 2 cm)",
   body_steps: "Body steps", occlusion_skipped: "Occlusion skipped",
   panels_shielded: "Panels wholly shielded",
   collision_pairs: "Collision pairs (broadphase)", collision_pairs_skipped: "Collision pairs skipped",

@@ -72,13 +72,17 @@ void BM_Debris(benchmark::State& state) {
 }
 BENCHMARK(BM_Debris)->Arg(1000)->Unit(benchmark::kMillisecond);
 
-brisance::scene::Scene brick_wall_scene() {
-  std::ifstream in(std::string(BRISANCE_SOURCE_DIR) + "/scenes/brick_wall.json");
+brisance::scene::Scene example_scene(const char* file) {
+  std::ifstream in(std::string(BRISANCE_SOURCE_DIR) + "/scenes/" + file);
   std::stringstream text;
   text << in.rdbuf();
   const auto parsed = brisance::scene::parse_scene_text(text.str());
   if (!parsed.scene) return {};
   return *parsed.scene;
+}
+
+brisance::scene::Scene brick_wall_scene() {
+  return example_scene("brick_wall.json");
 }
 
 // 16 walls of scenes/brick_wall.json (528 bricks), in a 4 x 4 grid 60 m apart, each with its
@@ -198,6 +202,28 @@ void BM_BrickWalls16(benchmark::State& state) {
   state.counters["below_ground_mm"] = 1e3 * ground_depth;
 }
 BENCHMARK(BM_BrickWalls16)->ArgName("collisions")->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
+
+// scenes/window.json end to end (prepare, the pane's fracture into about 1 900 pieces, 2 s at
+// 30 fps), contacts off (0) or auto (1): with auto the fragments meet the frame and any other
+// body, not each other (issue 13's goal: at most 1.5x the run without).
+void BM_Window(benchmark::State& state) {
+  brisance::scene::Scene scene = example_scene("window.json");
+  if (scene.objects.empty()) {
+    state.SkipWithError("scenes/window.json does not parse");
+    return;
+  }
+  scene.simulation.collisions = state.range(0) != 0 ? brisance::scene::CollisionMode::automatic
+                                                    : brisance::scene::CollisionMode::off;
+  brisance::engine::Result last;
+  for (auto _ : state) {
+    auto outcome = simulate(scene);
+    benchmark::DoNotOptimize(outcome.result.poses.data());
+    last = std::move(outcome.result);
+  }
+  state.counters["steps"] = static_cast<double>(last.stats.steps);
+  state.counters["contact_points"] = static_cast<double>(last.stats.contact_points);
+}
+BENCHMARK(BM_Window)->ArgName("collisions")->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 
 #ifdef BRISANCE_HAVE_BULLET
 // The same wall in Bullet (btDiscreteDynamicsWorld, its default sequential-impulse solver with

@@ -100,20 +100,30 @@ void Run::init_collisions() {
   state_.placed_valid.assign(n, 0);
   state_.box_state.resize(n);
   state_.box_valid.assign(n, 0);
+  state_.shape_box_centre.assign(n, Vec3::Zero());
+  state_.shape_box_half.assign(n, Vec3::Zero());
+  for (std::size_t b = 0; b < n; ++b) {
+    if (state_.shapes[b].pieces.empty()) continue;
+    Vec3 low = Vec3::Constant(INFINITY), high = Vec3::Constant(-INFINITY);
+    for (const dynamics::ConvexPiece& piece : state_.shapes[b].pieces)
+      dynamics::grow_box(piece, Vec3::Zero(), Mat3::Identity(), low, high);
+    state_.shape_box_centre[b] = 0.5 * (low + high);
+    state_.shape_box_half[b] = 0.5 * (high - low);
+  }
   state_.box_min.assign(n, Vec3::Zero());
   state_.box_max.assign(n, Vec3::Zero());
   state_.sweep_order.resize(n);
   std::iota(state_.sweep_order.begin(), state_.sweep_order.end(), 0u);
   state_.touching_body.assign(n, 0);
-  state_.touched_body.assign(n, 0);
   state_.touching_ground.assign(n, 0);
   state_.ground_with_bodies.assign(n, 0);
-  if (model_.collisions != Collisions::automatic) return;
   // A pane's pieces start in touch: each fragment with its neighbours along the cracks (the
   // hulls of concave outlines even overlap there) and the fragments at its edge with the frame.
-  // `auto` leaves out every pair of a fragment and another fragment or an anchored body whose
-  // boxes meet at the start (joined_pairs) until the two have once been apart; their contacts
-  // would otherwise push the pieces out of each other with the hulls' overlap (docs/simulator.md).
+  // Every pair of a fragment and another fragment (`on`; `auto` never pairs two fragments) or
+  // an anchored body whose boxes meet at the start (joined_pairs) is left out until the two
+  // have once been apart; their contacts would otherwise push the pieces out of each other
+  // with the hulls' overlap (docs/simulator.md: with `on`, window.json's 1 880 fragments did
+  // not finish 0.3 s in ten minutes).
   std::vector<Vec3> low(n), high(n);
   for (std::size_t b = 0; b < n; ++b) {
     const Mat3 r = state_.bodies[b].orientation.toRotationMatrix();
@@ -133,9 +143,10 @@ void Run::init_collisions() {
     const std::uint32_t a = order[i];
     for (std::size_t k = i + 1; k < n && low[order[k]].x() <= high[a].x() + kContactMargin_m; ++k) {
       const std::uint32_t b = order[k];
-      const bool pane_pair = (model_.fragment[a] && state_.motion[b] == Motion::anchored) ||
-                             (model_.fragment[b] && state_.motion[a] == Motion::anchored) ||
-                             (model_.fragment[a] && model_.fragment[b]);
+      const bool pane_pair =
+          (model_.fragment[a] && state_.motion[b] == Motion::anchored) ||
+          (model_.fragment[b] && state_.motion[a] == Motion::anchored) ||
+          (model_.fragment[a] && model_.fragment[b] && model_.collisions == Collisions::on);
       if (!pane_pair) continue;
       if ((low[a].array() > high[b].array() + kContactMargin_m).any() ||
           (low[b].array() > high[a].array() + kContactMargin_m).any())
@@ -228,8 +239,7 @@ void Run::collide(double dt) {
   if (model_.collisions == Collisions::off) return;
   const std::size_t n = model_.bodies.size();
   if (n < 2) return;
-  std::swap(state_.touched_body, state_.touching_body);  // last step's
-  state_.touching_body.assign(n, 0);
+  std::fill(state_.touching_body.begin(), state_.touching_body.end(), 0);
   state_.next_touching_pairs.clear();
 
   // Boxes: each body's box in its own frame, turned into the world (an oriented box's world
@@ -256,11 +266,21 @@ void Run::collide(double dt) {
         s.orientation.coeffs() == state_.box_state[b].orientation.coeffs())
       continue;
     const Mat3 r = s.orientation.toRotationMatrix();
-    Vec3 low = Vec3::Constant(INFINITY), high = Vec3::Constant(-INFINITY);
-    for (const dynamics::ConvexPiece& piece : state_.shapes[b].pieces)
-      dynamics::grow_box(piece, s.position, r, low, high);
-    state_.box_min[b] = low;
-    state_.box_max[b] = high;
+    if (model_.fragment[b]) {
+      // A fragment's box is its own frame's box turned into the world (an oriented box's
+      // world box): it holds the hull's box and costs nine products, not a turn of each of its
+      // hull's up to 64 vertices (a tenth of window.json's run with `auto`).
+      const Vec3 centre = s.position + r * state_.shape_box_centre[b];
+      const Vec3 half = r.cwiseAbs() * state_.shape_box_half[b];
+      state_.box_min[b] = centre - half;
+      state_.box_max[b] = centre + half;
+    } else {
+      Vec3 low = Vec3::Constant(INFINITY), high = Vec3::Constant(-INFINITY);
+      for (const dynamics::ConvexPiece& piece : state_.shapes[b].pieces)
+        dynamics::grow_box(piece, s.position, r, low, high);
+      state_.box_min[b] = low;
+      state_.box_max[b] = high;
+    }
     state_.box_state[b] = s;
     state_.box_valid[b] = 1;
   }
@@ -309,40 +329,52 @@ void Run::collide(double dt) {
     }
     order[j] = body;
   }
-  // Awake and touching nothing: neither the ground in this step's integration nor a body in
-  // the last step's contacts.
+  // Awake and not on the ground (in this step's integration).
   auto in_flight = [&](std::uint32_t b) {
-    return state_.motion[b] == Motion::awake && !state_.touching_ground[b] &&
-           !state_.touched_body[b];
+    return state_.motion[b] == Motion::awake && !state_.touching_ground[b];
   };
-  // `auto`: a fragment and a body both in flight: their margin is their motion relative to
-  // each other in the step (plus kContactMargin_m), not each one's own, and the pair is
-  // skipped here if their boxes are farther apart than that: however fast both fly, they
-  // cannot meet in the step (fragments of one pane flying side by side, whose own margins,
-  // grown by their speeds, overlap: 535 contact points on window.json against 19, and with
-  // 579 fragments a speculative contact between most neighbours in every step). Only in
-  // flight, where only this step's contacts change the velocities. Only with a fragment: for
-  // all pairs, leaving out the inert speculative contacts of bricks falling side by side
-  // changed the islands' solve enough that 5 of the 30 towers of
-  // Stability.BrickTowerStandsWhateverTheDrop fell and BoxPyramidSettles failed. In the sweep,
-  // so that a pane's thousands of pieces flying side by side cost no more than their boxes'
-  // test (sorted with the other pairs they took a fifth of window.json's run).
+  // A fragment and a body both in flight: their margin is their motion relative to each other
+  // in the step (plus kContactMargin_m), not each one's own, and the pair is left out here if
+  // their boxes are farther apart than that: however fast both fly, they cannot meet in the
+  // step (fragments of one pane flying side by side, whose own margins, grown by their speeds,
+  // overlap: 535 contact points on window.json against 19, and with 579 fragments a
+  // speculative contact between most neighbours in every step). Not on the ground, whose
+  // contacts change the velocities within the solve. Also for a body that touched another in
+  // the last step: leaving those out (the rule's first form) made each fragment that touched
+  // another take in every neighbour within its own margin, 8 cm at 11 m/s, and on the
+  // 1 880-fragment window.json with `on` 1.2 M contact points (4.26 s) instead of 241 k
+  // (1.72 s). Only with a fragment: for all pairs, leaving out the inert speculative contacts
+  // of bricks falling side by side changed the islands' solve enough that 5 of the 30 towers
+  // of Stability.BrickTowerStandsWhateverTheDrop fell and BoxPyramidSettles failed.
   auto relative_margin = [&](std::uint32_t a, std::uint32_t b) {
     const Vec3 relative = (state_.bodies[b].velocity - state_.bodies[a].velocity) * dt;
     return kContactMargin_m + relative.norm() + spin_margin[a] + spin_margin[b];
   };
-  const bool cull_in_flight = model_.collisions == Collisions::automatic;
+  // Pairs: each body against those after it in the order whose boxes (grown by both margins)
+  // meet its own. With `auto`, fragments are swept against the other bodies only, never
+  // against each other: their contacts, measured on window.json (docs/simulator.md), cost ten
+  // times the run without them (1 880 fragments, `on`); and a pane's thousands of pieces
+  // flying side by side, each box grown by its speed, overlapped 36 000 times a step, to be
+  // found and skipped one by one (2.06 s against 0.166 s without contacts).
   auto& pairs = state_.pairs;
   pairs.clear();
+  auto& others = state_.sweep_others;
+  auto& fragments = state_.sweep_fragments;
+  others.clear();
+  fragments.clear();
+  const bool fragments_apart = model_.collisions == Collisions::automatic;
+  for (const std::uint32_t b : order) {
+    if (state_.shapes[b].pieces.empty()) continue;
+    (fragments_apart && model_.fragment[b] ? fragments : others).push_back(b);
+  }
   std::uint64_t culled = 0;
-  for (std::size_t i = 0; i < order.size(); ++i) {
-    const std::uint32_t a = order[i];
-    if (state_.shapes[a].pieces.empty()) continue;
+  // a against the bodies of `list` from `first` on, while their boxes start within a's.
+  auto sweep = [&](std::uint32_t a, const std::vector<std::uint32_t>& list, std::size_t first) {
     const double high = state_.box_max[a][axis] + margin[a];
     const bool a_awake = state_.motion[a] == Motion::awake;
-    const bool a_flies = cull_in_flight && in_flight(a);
-    for (std::size_t k = i + 1; k < order.size() && low_of(order[k]) <= high; ++k) {
-      const std::uint32_t b = order[k];
+    const bool a_flies = in_flight(a);
+    for (std::size_t k = first; k < list.size() && low_of(list[k]) <= high; ++k) {
+      const std::uint32_t b = list[k];
       if (!a_awake && state_.motion[b] != Motion::awake) continue;
       const double grow = margin[a] + margin[b];
       if ((state_.box_min[a].array() > state_.box_max[b].array() + grow).any() ||
@@ -357,6 +389,20 @@ void Run::collide(double dt) {
         }
       }
       pairs.emplace_back(std::min(a, b), std::max(a, b));
+    }
+  };
+  // Both lists keep the order's; walking it, next_other and next_fragment are where each list
+  // goes on after the body at hand.
+  std::size_t next_other = 0, next_fragment = 0;
+  for (const std::uint32_t a : order) {
+    if (state_.shapes[a].pieces.empty()) continue;
+    if (next_fragment < fragments.size() && fragments[next_fragment] == a) {
+      ++next_fragment;
+      sweep(a, others, next_other);
+    } else {
+      ++next_other;
+      sweep(a, others, next_other);
+      sweep(a, fragments, next_fragment);
     }
   }
   std::sort(pairs.begin(), pairs.end());
@@ -436,8 +482,7 @@ void Run::collide(double dt) {
       }
     }
     double pair_margin = margin[a] + margin[b];
-    if (cull_in_flight && (model_.fragment[a] || model_.fragment[b]) && in_flight(a) &&
-        in_flight(b))
+    if ((model_.fragment[a] || model_.fragment[b]) && in_flight(a) && in_flight(b))
       pair_margin = std::min(pair_margin, relative_margin(a, b));  // (culled in the sweep)
     const dynamics::BodyState& sa = state_.bodies[a];
     const dynamics::BodyState& sb = state_.bodies[b];

@@ -108,12 +108,15 @@ struct RunState {
   std::vector<dynamics::BodyState> box_state;  // the state each body's box was found at
   std::vector<std::uint8_t> box_valid;
   std::vector<Vec3> box_min, box_max;  // world boxes (each body's margin is added where used)
+  // Each shape's box in its body's frame (centre and half sizes, from the centre of mass, m):
+  // a fragment's world box is this box's, turned.
+  std::vector<Vec3> shape_box_centre, shape_box_half;
   std::vector<std::uint32_t> sweep_order;
+  std::vector<std::uint32_t> sweep_others, sweep_fragments;  // the step's order, split (`auto`)
   int sweep_axis = 0;  // the axis the sweep order sorts along: the one of widest spread
   dynamics::ContactImpulses contact_impulses, next_contact_impulses;
   double contact_impulses_dt_s = 0.0;  // the step contact_impulses were solved in
   std::vector<std::uint8_t> touching_body;
-  std::vector<std::uint8_t> touched_body;  // touching_body of the step before, in collide
   // The bodies integrated this step and whether each touched the ground: with contacts between
   // bodies, sleeping is judged after them (sleep_after_contacts).
   std::vector<std::uint32_t> stepped;

@@ -1003,9 +1003,9 @@ export interface components {
             panes_not_broken: number;
             /** @description Fragment bodies made from broken panes. */
             fragments: number;
-            /** @description Pairs of bodies whose boxes met (broadphase), summed over steps. */
+            /** @description Pairs of bodies whose boxes met (broadphase), summed over steps. With collisions auto, pairs of two fragments are not formed and not counted. */
             collision_pairs: number;
-            /** @description Of those, pairs skipped by collisions auto, summed over steps. */
+            /** @description Of those, pairs skipped by collisions auto (moving apart, or a fragment and the frame it starts in), summed over steps. */
             collision_pairs_skipped: number;
             /** @description Contact points between bodies solved, summed over steps. */
             contact_points: number;

@@ -179,7 +179,7 @@ void Run::place_body(std::uint32_t b) {
   state_.placed_valid[b] = 1;
 }
 
-// `auto`: a joined pair (init_collisions) is parted once the two are apart: their boxes, grown
+// A joined pair (init_collisions) is parted once the two are apart: their boxes, grown
 // by both bodies' margins, no longer meet (the broadphase would not form the pair), or their
 // collision shapes no longer overlap (separating axes). From then on they
 // collide like any other pair: fragments that meet again, piled on the ground. (Two fragments'

@@ -73,10 +73,13 @@ void prepare_world(const scene::Scene& scene, Model& model) {
   model.timing.time_step_s = sim.time_step_s;
   model.timing.tolerance = sim.tolerance;
   model.timing.sleep = sim.sleep;
-  model.timing.body_substeps = sim.body_substeps;
+  // Unset, body_substeps is on where it applies: semi-implicit Euler with collisions off (a
+  // broken window over a ground: 29.6 k steps and 29.4 s without, 511 steps and 1.75 s with).
+  const bool semi_implicit = sim.integrator == scene::Integrator::semi_implicit_euler;
+  model.timing.body_substeps =
+      sim.body_substeps.value_or(semi_implicit && sim.collisions == scene::CollisionMode::off);
   model.timing.turn_substeps =
-      sim.body_substeps || (sim.collisions != scene::CollisionMode::off &&
-                            sim.integrator == scene::Integrator::semi_implicit_euler);
+      model.timing.body_substeps || (sim.collisions != scene::CollisionMode::off && semi_implicit);
   // The same turn per step as the adaptive step allows everyone (run.cpp, next_step).
   if (model.timing.turn_substeps)
     model.world.max_turn_per_substep_rad = 2.0 * std::sqrt(sim.tolerance);

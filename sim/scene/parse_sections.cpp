@@ -202,13 +202,15 @@ SimulationSpec parse_simulation(const json& value, const std::string& pointer, c
   simulation.rotation_factor =
       fields.number("rotation_factor", simulation.rotation_factor, non_negative());
   simulation.sleep = fields.boolean("sleep", simulation.sleep);
-  simulation.body_substeps = fields.boolean("body_substeps", simulation.body_substeps);
-  if (simulation.body_substeps && simulation.integrator != Integrator::semi_implicit_euler) {
+  if (fields.get("body_substeps"))
+    simulation.body_substeps = fields.boolean("body_substeps", false);
+  if (simulation.body_substeps == true &&
+      simulation.integrator != Integrator::semi_implicit_euler) {
     errors.add(fields.at("body_substeps"),
                "'body_substeps' needs the \"semi_implicit_euler\" integrator (the only one that "
                "turns a body by its own rule); remove it or change 'integrator'");
   }
-  if (simulation.body_substeps && simulation.collisions != CollisionMode::off) {
+  if (simulation.body_substeps == true && simulation.collisions != CollisionMode::off) {
     errors.add(fields.at("body_substeps"),
                "'body_substeps' needs \"collisions\": \"off\" (contacts between bodies are "
                "solved once a step, for every body at once); remove one of them");

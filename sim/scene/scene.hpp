@@ -164,8 +164,8 @@ struct SimulationSpec {
   bool sleep = true;                // bodies at rest on the ground stop being integrated
   // Each body takes substeps of its own where its spin (at most 2 sqrt(tolerance) rad a substep)
   // or its approach to the ground needs them, instead of shortening every body's step;
-  // semi-implicit Euler and collisions off only.
-  bool body_substeps = false;
+  // semi-implicit Euler and collisions off only. Unset: on where it applies (body_substeps()).
+  std::optional<bool> body_substeps;
 };
 
 struct Scene {

@@ -1005,7 +1005,7 @@ export interface components {
             fragments: number;
             /** @description Pairs of bodies whose boxes met (broadphase), summed over steps. With collisions auto, pairs of two fragments are not formed and not counted. */
             collision_pairs: number;
-            /** @description Of those, pairs skipped by collisions auto (moving apart, or a fragment and the frame it starts in), summed over steps. */
+            /** @description Of those, pairs left out (moving apart with auto, pieces of a pane not yet apart, bodies in flight farther apart than they move towards each other), summed over steps. */
             collision_pairs_skipped: number;
             /** @description Contact points between bodies solved, summed over steps. */
             contact_points: number;
@@ -2326,7 +2326,7 @@ export interface components {
                 per_panel?: boolean;
             };
             /**
-             * @description Contacts between bodies (off by default for now: resting stacks still jitter by a few millimetres). auto skips pairs that cannot meet (moving apart and not pressed together; a fragment and a body both in flight, farther apart than they move towards each other in the step) and the pieces of a broken pane (two fragments, or a fragment and its frame, touching at the start) until they have once been apart; on tests every pair whose boxes meet; off lets bodies pass through each other.
+             * @description Contacts between bodies (off by default for now: they cost several times the run without them). auto skips pairs that cannot meet (moving apart and not pressed together) and never pairs two fragments: a broken pane's pieces pass through each other. on pairs every two bodies, fragments included, at several times auto's cost for a pane of thousands of pieces. With both, the pieces of a broken pane (two fragments, or a fragment and its frame, touching at the start) stay out of each other's contacts until they have once been apart, and a fragment and a body both in flight are left out while farther apart than they move towards each other in the step. off lets bodies pass through each other.
              * @default off
              * @enum {string}
              */
@@ -2366,10 +2366,7 @@ export interface components {
              * @default true
              */
             sleep?: boolean;
-            /**
-             * @description Each body takes substeps of its own where its spin (2 sqrt(tolerance) rad a substep) or its approach to the ground needs them, instead of shortening every body's step. Needs integrator semi_implicit_euler and collisions off.
-             * @default false
-             */
+            /** @description Each body takes substeps of its own where its spin (2 sqrt(tolerance) rad a substep) or its approach to the ground needs them, instead of shortening every body's step. Needs integrator semi_implicit_euler and collisions off. Unset, it is on where it applies and off elsewhere; false turns it off. */
             body_substeps?: boolean;
         };
     };

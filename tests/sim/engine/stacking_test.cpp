@@ -253,5 +253,29 @@ TEST(Stability, ASpinningBodyDoesNotShortenTheStepWithContacts) {
           << b << " " << k;
 }
 
+TEST(Stability, BodySubstepsAreOnWhereTheyApplyUnlessTheSceneSaysNo) {
+  // Unset, body_substeps is on with semi-implicit Euler and contacts off (prepare.cpp): a
+  // broken window over a ground took 29.6 k steps (29.4 s) without it, 511 with it. The
+  // tumbling plate of the test above: unset steps as set, false as before (the spinner
+  // shortening every step), and rk4, where it does not apply, as false.
+  scene::Scene s = testing::vacuum_scene();
+  s.charges.push_back(tnt(1.0, Vector3d(0.25, 0.1, -0.5)));
+  s.objects.push_back(box_object("plate", Vector3d(0.5, 0.3, 0.001), Vector3d::Zero(), 0.4));
+  s.simulation.duration_s = 1.0 / 3.0;
+  s.simulation.collisions = scene::CollisionMode::off;
+  const Result unset = simulate(s).result;
+  s.simulation.body_substeps = true;
+  const Result set = simulate(s).result;
+  s.simulation.body_substeps = false;
+  const Result global = simulate(s).result;
+  EXPECT_EQ(unset.stats.steps, set.stats.steps);
+  EXPECT_EQ(unset.final_state[0].pose.orientation, set.final_state[0].pose.orientation);
+  EXPECT_GT(global.stats.steps, 5 * unset.stats.steps);
+  s.simulation.integrator = scene::Integrator::rk4;
+  const Result rk4_false = simulate(s).result;
+  s.simulation.body_substeps.reset();
+  EXPECT_EQ(simulate(s).result.stats.steps, rk4_false.stats.steps);
+}
+
 }  // namespace
 }  // namespace brisance::engine

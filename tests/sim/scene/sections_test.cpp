@@ -311,9 +311,15 @@ TEST(SceneSimulation, SeedTakesTheWholeUnsignedRange) {
 
 TEST(SceneSimulation, BodySubstepsNeedSemiImplicitEulerAndNoCollisions) {
   json doc = minimal_scene();
-  EXPECT_FALSE(parse_ok(doc).simulation.body_substeps);
+  EXPECT_FALSE(parse_ok(doc).simulation.body_substeps.has_value());  // unset: on where it applies
+  doc["simulation"] = {{"body_substeps", false}};
+  EXPECT_EQ(parse_ok(doc).simulation.body_substeps, false);
+  doc["simulation"] = {{"integrator", "rk4"}};  // unset: no error where it does not apply
+  EXPECT_FALSE(parse_ok(doc).simulation.body_substeps.has_value());
+  doc["simulation"] = {{"collisions", "auto"}};
+  EXPECT_FALSE(parse_ok(doc).simulation.body_substeps.has_value());
   doc["simulation"] = {{"body_substeps", true}};
-  EXPECT_TRUE(parse_ok(doc).simulation.body_substeps);
+  EXPECT_EQ(parse_ok(doc).simulation.body_substeps, true);
   doc["simulation"] = {{"body_substeps", true}, {"integrator", "rk4"}};
   EXPECT_TRUE(contains(single_error(doc, "/simulation/body_substeps"), "semi_implicit_euler"));
   doc["simulation"] = {{"body_substeps", true}, {"collisions", "auto"}};

@@ -92,6 +92,11 @@ struct ContactRow {
 struct PairSolveBuffers {
   std::vector<std::uint32_t> island;  // the moving bodies
   std::vector<ContactRow> rows;
+  // Per body of the island: its velocities before the solve and its world inertia (for the
+  // island's kinetic energy).
+  std::vector<Vec3> start_velocity, start_omega;
+  std::vector<Mat3> inertia;
+  std::uint64_t energy_limited = 0;  // islands whose solve was scaled back (passivity)
 };
 
 struct PairSolveSettings {
@@ -112,6 +117,9 @@ struct PairSolveSettings {
   // alternates between lengths, 9.5 and 4.9 ms as frames fall, which left every other warm
   // start twice or half what it needed).
   double warm_start_scale = 1.0;
+  // The kinetic energy the solve may add to an island beyond its own 1 %, per kg of its
+  // bodies: (g dt)^2, what one step's gravity and last step's impulses give a body at rest.
+  double gravity_m_s2 = 9.81;
   double slop_m = 5e-4;              // penetration left alone (no jitter)
   double position_correction = 0.6;  // of the penetration beyond the slop, per step
 };

@@ -660,6 +660,8 @@ void Run::collide(double dt) {
     result_.stats.contact_points += sorted.size();
     dynamics::PairSolveSettings settings;
     settings.dt_s = dt;
+    settings.gravity_m_s2 = model_.world.gravity_m_s2.norm();
+    const std::uint64_t limited_before = state_.solve_buffers.energy_limited;
     // Warm start as forces: last step's impulses in proportion to the step's length, at most
     // doubled (an impact's impulse in a tiny step is no force to scale up).
     if (state_.contact_impulses_dt_s > 0.0)
@@ -678,6 +680,11 @@ void Run::collide(double dt) {
       first = last;
     }
     state_.next_contact_impulses.seal();
+    for (std::uint64_t k = limited_before; k < state_.solve_buffers.energy_limited; ++k)
+      warnings_.add("contact_energy_limited",
+                    "a contact solve would have given bodies kinetic energy (a fast spinner "
+                    "meeting another body: its contacts are linear in the step) and was scaled "
+                    "back; shorten the step (lower 'tolerance') if these bodies matter");
     std::swap(state_.contact_impulses, state_.next_contact_impulses);
     // The step's motion redone with the solved velocities (body_contact.hpp): each body moves
     // and turns by its change of velocity over the step, then out of what penetration is left.

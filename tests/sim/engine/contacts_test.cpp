@@ -140,6 +140,16 @@ double deepest_true_overlap(const Result& r) {
   return deepest;
 }
 
+// A second run of the scene gives the same poses, bit for bit.
+void expect_bit_identical_rerun(const scene::Scene& s, const Result& r) {
+  const Result again = simulate(s).result;
+  ASSERT_EQ(again.poses.size(), r.poses.size());
+  for (std::size_t i = 0; i < r.poses.size(); ++i) {
+    ASSERT_EQ(r.poses[i].position, again.poses[i].position) << i;
+    ASSERT_EQ(r.poses[i].orientation, again.poses[i].orientation) << i;
+  }
+}
+
 TEST(Contacts, DroppedBoxLandsOnTheOtherNotThroughIt) {
   // (Not yet: both coming to rest. The upper box still jitters 3-7 mm above the lower one and
   // the lower creeps; see docs/simulator.md.)
@@ -169,12 +179,7 @@ TEST(Contacts, BrickWallEndsWithoutBricksInsideEachOther) {
   s.simulation.collisions = scene::CollisionMode::automatic;
   const Result r = simulate(s).result;
   EXPECT_LT(deepest_overlap(r), 5e-3);
-  const Result again = simulate(s).result;  // bit-identical rerun
-  ASSERT_EQ(again.poses.size(), r.poses.size());
-  for (std::size_t i = 0; i < r.poses.size(); ++i) {
-    ASSERT_EQ(r.poses[i].position, again.poses[i].position) << i;
-    ASSERT_EQ(r.poses[i].orientation, again.poses[i].orientation) << i;
-  }
+  expect_bit_identical_rerun(s, r);
   scene::Scene off = s;
   off.simulation.collisions = scene::CollisionMode::off;
   EXPECT_GT(deepest_overlap(simulate(off).result), 0.02);  // the measure sees the old fault
@@ -248,12 +253,7 @@ TEST(Contacts, BrokenPaneLandsWithoutFragmentsInsideEachOther) {
   // fragments' own outlines. Measured: 1.1 mm at most; with every fragment pair skipped, as
   // before, 25 pairs lay inside each other by 5.9-6.0 mm, the whole thickness.
   EXPECT_LT(deepest_true_overlap(r), 3e-3);
-  const Result again = simulate(s).result;  // bit-identical rerun
-  ASSERT_EQ(again.poses.size(), r.poses.size());
-  for (std::size_t i = 0; i < r.poses.size(); ++i) {
-    ASSERT_EQ(r.poses[i].position, again.poses[i].position) << i;
-    ASSERT_EQ(r.poses[i].orientation, again.poses[i].orientation) << i;
-  }
+  expect_bit_identical_rerun(s, r);
 }
 
 }  // namespace

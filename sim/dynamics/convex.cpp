@@ -315,6 +315,22 @@ void extent(const std::vector<Vec3>& vertices, const Vec3& axis, double& low, do
   }
 }
 
+// How far `other` lies beyond face f of `reference` (negative: into it), m.
+double face_gap(const PlacedPiece& reference, const PlacedPiece& other, std::size_t f) {
+  double low, high;
+  extent(other.vertices, reference.normals[f], low, high);
+  return low - reference.offsets[f];
+}
+
+// The unit axis across edge directions ea and eb, unless they are (nearly) parallel.
+bool cross_axis(const Vec3& ea, const Vec3& eb, Vec3& axis) {
+  axis = ea.cross(eb);
+  const double length = axis.norm();
+  if (length < 1e-6) return false;
+  axis /= length;
+  return true;
+}
+
 // Closest points of segments p0-p1 and q0-q1 (clamped), returned as their midpoint.
 Vec3 closest_midpoint(const Vec3& p0, const Vec3& p1, const Vec3& q0, const Vec3& q1,
                       double& distance_squared) {
@@ -422,9 +438,7 @@ bool collide(const PlacedPiece& a, const PlacedPiece& b, double margin_m,
   std::size_t reference_face = 0;  // of a, or of b if reference_is_b
   bool reference_is_b = false;
   for (std::size_t f = 0; f < a.normals.size(); ++f) {
-    double low, high;
-    extent(b.vertices, a.normals[f], low, high);
-    const double separation = low - a.offsets[f];
+    const double separation = face_gap(a, b, f);
     if (separation > margin_m) return false;
     if (separation > best) {
       best = separation;
@@ -433,9 +447,7 @@ bool collide(const PlacedPiece& a, const PlacedPiece& b, double margin_m,
     }
   }
   for (std::size_t f = 0; f < b.normals.size(); ++f) {
-    double low, high;
-    extent(a.vertices, b.normals[f], low, high);
-    const double separation = low - b.offsets[f];
+    const double separation = face_gap(b, a, f);
     if (separation > margin_m) return false;
     if (separation > best) {
       best = separation;
@@ -448,10 +460,8 @@ bool collide(const PlacedPiece& a, const PlacedPiece& b, double margin_m,
   bool edge_axis = false;
   for (const Vec3& ea : a.edge_directions)
     for (const Vec3& eb : b.edge_directions) {
-      Vec3 candidate = ea.cross(eb);
-      const double length = candidate.norm();
-      if (length < 1e-6) continue;
-      candidate /= length;
+      Vec3 candidate;
+      if (!cross_axis(ea, eb, candidate)) continue;
       if (candidate.dot(between) < 0.0) candidate = -candidate;
       double a_low, a_high, b_low, b_high;
       extent(a.vertices, candidate, a_low, a_high);
@@ -539,21 +549,14 @@ bool separated(const PlacedPiece& a, const PlacedPiece& b, double margin_m) {
   if ((a.min.array() > b.max.array() + margin_m).any() ||
       (b.min.array() > a.max.array() + margin_m).any())
     return true;
-  double low, high;
-  for (std::size_t f = 0; f < a.normals.size(); ++f) {
-    extent(b.vertices, a.normals[f], low, high);
-    if (low - a.offsets[f] > margin_m) return true;
-  }
-  for (std::size_t f = 0; f < b.normals.size(); ++f) {
-    extent(a.vertices, b.normals[f], low, high);
-    if (low - b.offsets[f] > margin_m) return true;
-  }
+  for (std::size_t f = 0; f < a.normals.size(); ++f)
+    if (face_gap(a, b, f) > margin_m) return true;
+  for (std::size_t f = 0; f < b.normals.size(); ++f)
+    if (face_gap(b, a, f) > margin_m) return true;
   for (const Vec3& ea : a.edge_directions)
     for (const Vec3& eb : b.edge_directions) {
-      Vec3 axis = ea.cross(eb);
-      const double length = axis.norm();
-      if (length < 1e-6) continue;
-      axis /= length;
+      Vec3 axis;
+      if (!cross_axis(ea, eb, axis)) continue;
       double a_low, a_high, b_low, b_high;
       extent(a.vertices, axis, a_low, a_high);
       extent(b.vertices, axis, b_low, b_high);

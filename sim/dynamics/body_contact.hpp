@@ -96,7 +96,15 @@ struct PairSolveBuffers {
   // island's kinetic energy).
   std::vector<Vec3> start_velocity, start_omega;
   std::vector<Mat3> inertia;
+  // Per solver body: its place in the island's lists. Per body of the island: the turn it makes
+  // when the step is redone with the solved velocities, rad, and whether it is large enough to
+  // be taken exactly (then the rotation less the identity).
+  std::vector<std::uint32_t> slot;
+  std::vector<Vec3> turn;
+  std::vector<Mat3> turn_minus_identity;
+  std::vector<std::uint8_t> turned;
   std::uint64_t energy_limited = 0;  // islands whose solve was scaled back (passivity)
+  std::uint64_t spin_limited = 0;    // bodies whose spin from the solve was limited
 };
 
 struct PairSolveSettings {

@@ -661,6 +661,7 @@ void Run::collide(double dt) {
     settings.dt_s = dt;
     settings.gravity_m_s2 = model_.world.gravity_m_s2.norm();
     const std::uint64_t limited_before = state_.solve_buffers.energy_limited;
+    const std::uint64_t spun_before = state_.solve_buffers.spin_limited;
     // Warm start as forces: last step's impulses in proportion to the step's length, at most
     // doubled (an impact's impulse in a tiny step is no force to scale up).
     if (state_.contact_impulses_dt_s > 0.0)
@@ -684,6 +685,12 @@ void Run::collide(double dt) {
                     "a contact solve would have given bodies kinetic energy (a fast spinner "
                     "meeting another body: its contacts are linear in the step) and was scaled "
                     "back; shorten the step (lower 'tolerance') if these bodies matter");
+    for (std::uint64_t k = spun_before; k < state_.solve_buffers.spin_limited; ++k)
+      warnings_.add("contact_spin_limited",
+                    "contacts would have spun a body by more than a quarter turn in one step (a "
+                    "thin piece struck on an edge) and its spin was limited to that, as the "
+                    "contacts found once a step cannot follow it; shorten the step (lower "
+                    "'tolerance') if these bodies matter");
     std::swap(state_.contact_impulses, state_.next_contact_impulses);
     // The step's motion redone with the solved velocities (body_contact.hpp): each body moves
     // and turns by its change of velocity over the step, then out of what penetration is left.
@@ -694,13 +701,18 @@ void Run::collide(double dt) {
       st.velocity = solver[s].velocity;
       st.position += (solver[s].velocity - before[s].velocity) * dt + solver[s].position_shift;
       if (body.rotates) {
-        const Mat3 r = st.orientation.toRotationMatrix();
-        st.angular_momentum = r * (body.inertia_body * (r.transpose() * solver[s].omega));
+        // The solved spin is the body's at the end of the step, and it turns with the body:
+        // kept in the body's frame through the redone turn, so the body keeps the energy the
+        // solve left it. (Kept as angular momentum in the world instead, a sliver turned by a
+        // fraction of a radian took that momentum about an axis of a thousandth of the inertia:
+        // thousands of rad/s, and energy from nowhere.)
+        const Vec3 spin_body = st.orientation.conjugate() * solver[s].omega;
         const Vec3 turn = (solver[s].omega - before[s].omega) * dt;
         const double angle = turn.norm();
         if (angle > 0.0)
           st.orientation = (dynamics::Quat(Eigen::AngleAxisd(angle, turn / angle)) * st.orientation)
                                .normalized();
+        st.angular_momentum = st.orientation * (body.inertia_body * spin_body);
       }
     }
     // A held body pushed harder than its hold breaks free.

@@ -415,6 +415,24 @@ void face_manifold(const PlacedPiece& reference, const PlacedPiece& incident, st
     clip(polygon, outward, outward.dot(p) + side_margin_m, static_cast<std::uint32_t>(k), clipped);
     std::swap(polygon, clipped);
   }
+  // And to the reference piece's box grown by sqrt(2) times as much: sides moved out by the
+  // margin d meet d / sin(angle / 2) beyond a corner, at most sqrt(2) d where no corner is
+  // acute (a box's faces: for bricks this clips nothing), but 20 m at a sliver's 1 degree tip
+  // with d = 17 cm, and a sliver before a wall took points at the wall's edges, 2 m away, as
+  // its own.
+  const double grown = std::sqrt(2.0) * side_margin_m;
+  for (int k = 0; k < 3 && !polygon.empty(); ++k)
+    for (const double sign : {1.0, -1.0}) {
+      const Vec3 outward = sign * Vec3::Unit(k);
+      const double bound = sign > 0.0 ? reference.max[k] + grown : -(reference.min[k] - grown);
+      bool outside = false;
+      for (const ClipPoint& c : polygon)
+        outside = outside || outward.dot(c.point) > bound;
+      if (!outside) continue;
+      clip(polygon, outward, bound, static_cast<std::uint32_t>(2 * k + (sign > 0.0 ? 0 : 1)),
+           clipped);
+      std::swap(polygon, clipped);
+    }
   out.normal = reference_is_b ? Vec3(-n) : n;
   for (const ClipPoint& c : polygon) {
     const double depth = offset - n.dot(c.point);

@@ -317,6 +317,28 @@ TEST(Contacts, GiveAPanesFragmentsStrikingAWallNoEnergy) {
   }
   EXPECT_EQ(gained, 0u);
   EXPECT_GT(slowed, 500u);  // the wall took most of the energy of those that struck it
+  // No piece's centre of mass moves much farther between frames than without contacts, where
+  // the fastest flies at 18 m/s.
+  auto farthest_step = [](const Result& run) {
+    std::vector<Vector3d> last(run.bodies.size());
+    double farthest = 0.0;
+    for (std::size_t frame = 0; frame < run.frame_times_s.size(); ++frame)
+      for (std::size_t k = 0; k < run.animated.size(); ++k) {
+        const Pose& p = run.pose(frame, k);
+        const std::size_t b = run.animated[k];
+        const Eigen::Quaterniond q(p.orientation[3], p.orientation[0], p.orientation[1],
+                                   p.orientation[2]);
+        const Vector3d centre =
+            Vector3d(p.position[0], p.position[1], p.position[2]) +
+            q * geometry::mass_properties(run.bodies[b].mesh, 1.0).centre_of_mass;
+        if (frame > 0) farthest = std::max(farthest, (centre - last[b]).norm());
+        last[b] = centre;
+      }
+    return farthest;
+  };
+  // Shifts out of what penetration is left add a little (measured: 2.4 cm more, 0.632 against
+  // 0.607 m; before, a sliver shifted out of contacts predicted metres deep moved 2.3 m).
+  EXPECT_LT(farthest_step(r), farthest_step(without) + 0.05);
 }
 
 TEST(Contacts, AutoSweepsAPanesFragmentsOnlyAgainstOtherBodies) {

@@ -206,26 +206,31 @@ TEST(Contacts, StrongWallEndsWithoutBricksInsideEachOther) {
   EXPECT_GT(deepest_overlap(simulate(off).result), 0.02);  // the measure sees the old fault
 }
 
+// window.json over a ground (y = 0, 1 m below the frame), with an anchored wall 0.8 m behind
+// the window that the fragments strike and drop from, so that they pile up at its foot.
+scene::Scene window_before_a_wall(double duration_s, scene::CollisionMode collisions) {
+  scene::Scene s = testing::load_example_scene("window.json");
+  s.environment.ground = scene::GroundSpec{};
+  scene::ObjectSpec wall =
+      box_object("back_wall", Vector3d(4.0, 3.0, 0.2), Vector3d(0.0, 1.5, -0.8), 1000.0);
+  wall.anchored = true;
+  s.objects.push_back(wall);
+  s.simulation.duration_s = duration_s;
+  s.simulation.collisions = collisions;
+  return s;
+}
+
 TEST(Contacts, BrokenPaneLandsWithoutFragmentsInsideEachOther) {
   // Issue 13: with `on`, a pane's pieces collided from the start, where the hulls of their
   // concave outlines overlap, and window.json did not finish 0.3 s in ten minutes; `auto` skips
   // every pair of fragments, so a broken pane's pieces piling up lie inside each other. Now
   // with `on` the pieces of a pane are left out only until they have once been apart: they
   // leave the pane as without contacts (the same release times and launch speeds) and end on
-  // the ground on and beside each other, not inside each other. The scene:
-  // window.json over a ground, with an anchored wall 0.8 m behind the window that the
-  // fragments strike and drop from, so that they pile up at its foot.
-  scene::Scene s = testing::load_example_scene("window.json");
+  // the ground on and beside each other, not inside each other.
+  scene::Scene s = window_before_a_wall(4.0, scene::CollisionMode::on);
   // The thesis's crack tree in 22 fragments (window.json's own radial pattern has about 1 200,
   // too many for a fast test, and with contacts too slow: docs/simulator.md).
   s.objects[0].fracture->growth_length_m = 0.035;
-  s.environment.ground = scene::GroundSpec{};  // y = 0, 1 m below the frame
-  scene::ObjectSpec wall =
-      box_object("back_wall", Vector3d(4.0, 3.0, 0.2), Vector3d(0.0, 1.5, -0.8), 1000.0);
-  wall.anchored = true;
-  s.objects.push_back(wall);
-  s.simulation.duration_s = 4.0;
-  s.simulation.collisions = scene::CollisionMode::on;
   const Result r = simulate(s).result;
   scene::Scene off = s;
   off.simulation.collisions = scene::CollisionMode::off;
@@ -290,16 +295,11 @@ TEST(Contacts, GiveAPanesFragmentsStrikingAWallNoEnergy) {
   // with no more than without contacts (where they pass through the wall). Before, the solved
   // spin was kept as angular momentum in the world while the step's turn was redone: slivers
   // turned by a fraction of a radian took that momentum about an axis of far smaller inertia
-  // and left the wall at thousands of rad/s; and a sliver turning radians in the step had its
-  // contacts predicted metres deep and was shifted 2.8 m out of them.
-  scene::Scene s = testing::load_example_scene("window.json");
-  s.environment.ground = scene::GroundSpec{};
-  scene::ObjectSpec wall =
-      box_object("back_wall", Vector3d(4.0, 3.0, 0.2), Vector3d(0.0, 1.5, -0.8), 1000.0);
-  wall.anchored = true;
-  s.objects.push_back(wall);
-  s.simulation.duration_s = 0.3;
-  s.simulation.collisions = scene::CollisionMode::automatic;
+  // and left the wall at thousands of rad/s; a sliver turning radians in the step had its
+  // contacts predicted metres deep and was shifted 2.8 m out of them; and a sliver before the
+  // wall took the wall's corners, 2 m away, as its contact points (docs/simulator.md,
+  // Passivity).
+  const scene::Scene s = window_before_a_wall(0.3, scene::CollisionMode::automatic);
   const Result r = simulate(s).result;
   scene::Scene off = s;
   off.simulation.collisions = scene::CollisionMode::off;

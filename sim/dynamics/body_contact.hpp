@@ -105,6 +105,7 @@ struct PairSolveBuffers {
   std::vector<std::uint8_t> turned;
   std::uint64_t energy_limited = 0;  // islands whose solve was scaled back (passivity)
   std::uint64_t spin_limited = 0;    // bodies whose spin from the solve was limited
+  std::uint64_t speed_limited = 0;   // bodies whose speed from the solve was limited
 };
 
 struct PairSolveSettings {

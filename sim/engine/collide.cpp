@@ -662,6 +662,7 @@ void Run::collide(double dt) {
     settings.gravity_m_s2 = model_.world.gravity_m_s2.norm();
     const std::uint64_t limited_before = state_.solve_buffers.energy_limited;
     const std::uint64_t spun_before = state_.solve_buffers.spin_limited;
+    const std::uint64_t sped_before = state_.solve_buffers.speed_limited;
     // Warm start as forces: last step's impulses in proportion to the step's length, at most
     // doubled (an impact's impulse in a tiny step is no force to scale up).
     if (state_.contact_impulses_dt_s > 0.0)
@@ -691,6 +692,11 @@ void Run::collide(double dt) {
                     "thin piece struck on an edge) and its spin was limited to that, as the "
                     "contacts found once a step cannot follow it; shorten the step (lower "
                     "'tolerance') if these bodies matter");
+    for (std::uint64_t k = sped_before; k < state_.solve_buffers.speed_limited; ++k)
+      warnings_.add("contact_speed_limited",
+                    "contacts would have sent a body off faster than twice the fastest body "
+                    "they touched (a light piece squeezed in a pile) and its speed was limited "
+                    "to that");
     std::swap(state_.contact_impulses, state_.next_contact_impulses);
     // The step's motion redone with the solved velocities (body_contact.hpp): each body moves
     // and turns by its change of velocity over the step, then out of what penetration is left.

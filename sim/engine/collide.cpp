@@ -681,25 +681,26 @@ void Run::collide(double dt) {
       first = last;
     }
     state_.next_contact_impulses.seal();
-    if (state_.solve_buffers.energy_limited > limited_before)
-      warnings_.add("contact_energy_limited",
-                    "a contact solve would have given bodies kinetic energy (a fast spinner "
-                    "meeting another body: its contacts are linear in the step) and was scaled "
-                    "back; shorten the step (lower 'tolerance') if these bodies matter",
-                    state_.solve_buffers.energy_limited - limited_before);
-    if (state_.solve_buffers.spin_limited > spun_before)
-      warnings_.add("contact_spin_limited",
-                    "contacts would have spun a body by more than a quarter turn in one step (a "
-                    "thin piece struck on an edge) and its spin was limited to that, as the "
-                    "contacts found once a step cannot follow it; shorten the step (lower "
-                    "'tolerance') if these bodies matter",
-                    state_.solve_buffers.spin_limited - spun_before);
-    if (state_.solve_buffers.speed_limited > sped_before)
-      warnings_.add("contact_speed_limited",
-                    "contacts would have sent a body off faster than twice the fastest body "
-                    "they touched (a light piece squeezed in a pile) and its speed was limited "
-                    "to that",
-                    state_.solve_buffers.speed_limited - sped_before);
+    const dynamics::PairSolveBuffers& solved = state_.solve_buffers;
+    const struct {
+      std::uint64_t count;
+      const char* code;
+      const char* message;
+    } limits[] = {
+        {solved.energy_limited - limited_before, "contact_energy_limited",
+         "a contact solve would have given bodies kinetic energy (a fast spinner meeting another "
+         "body: its contacts are linear in the step) and was scaled back; shorten the step "
+         "(lower 'tolerance') if these bodies matter"},
+        {solved.spin_limited - spun_before, "contact_spin_limited",
+         "contacts would have spun a body by more than a quarter turn in one step (a thin piece "
+         "struck on an edge) and its spin was limited to that, as the contacts found once a step "
+         "cannot follow it; shorten the step (lower 'tolerance') if these bodies matter"},
+        {solved.speed_limited - sped_before, "contact_speed_limited",
+         "contacts would have sent a body off faster than twice the fastest body they touched (a "
+         "light piece squeezed in a pile) and its speed was limited to that"},
+    };
+    for (const auto& limit : limits)
+      if (limit.count > 0) warnings_.add(limit.code, limit.message, limit.count);
     std::swap(state_.contact_impulses, state_.next_contact_impulses);
     // The step's motion redone with the solved velocities (body_contact.hpp): each body moves
     // and turns by its change of velocity over the step, then out of what penetration is left.

@@ -112,7 +112,10 @@ struct RunState {
   // a fragment's world box is this box's, turned.
   std::vector<Vec3> shape_box_centre, shape_box_half;
   std::vector<std::uint32_t> sweep_order;
-  std::vector<std::uint32_t> sweep_others, sweep_fragments;  // the step's order, split (`auto`)
+  std::vector<std::uint32_t> sweep_others, sweep_fragments;    // the step's order, split
+  std::vector<std::pair<double, std::uint32_t>> sweep_flying;  // `on`: fragments in flight,
+  std::vector<double> flying_margin;  // sorted by their boxes' low ends less their margins
+                                      // relative to the flock (collide)
   int sweep_axis = 0;  // the axis the sweep order sorts along: the one of widest spread
   dynamics::ContactImpulses contact_impulses, next_contact_impulses;
   double contact_impulses_dt_s = 0.0;  // the step contact_impulses were solved in
@@ -177,6 +180,10 @@ class Run {
   void collide(double dt);  // contacts between bodies (collide.cpp)
   void init_collisions();
   void part_joined_pairs();
+  // How near two bodies in flight can come in a step: kContactMargin_m plus their motion
+  // relative to each other (collide.cpp).
+  double relative_margin(std::uint32_t a, std::uint32_t b, double dt) const;
+  void sweep_flying_fragments(double dt, std::uint64_t& culled);
   void place_body(std::uint32_t b);
   void sleep_after_contacts(double dt);
 

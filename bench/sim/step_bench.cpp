@@ -85,13 +85,16 @@ brisance::scene::Scene brick_wall_scene() {
   return example_scene("brick_wall.json");
 }
 
-// 16 walls of scenes/brick_wall.json (528 bricks), in a 4 x 4 grid 60 m apart, each with its
-// charge 15 m in front of it as there (the issue's 528-brick case).
-brisance::scene::Scene brick_walls_16_scene() {
+// 16 walls of scenes/brick_wall.json (528 bricks), in a 4 x 4 grid `apart_m` apart, each with
+// its charge 15 m in front of it as there (the issue's 528-brick case). 60 m apart, every
+// charge's wave strikes every wall within the 2 s (16 waves a wall, arriving until about 0.6 s);
+// 1 000 m apart, only its own charge's does (the next arrives after about 2.9 s): 16 copies of
+// the example wall, the "16 such walls" Bullet is compared on.
+brisance::scene::Scene brick_walls_16_scene(int apart_m) {
   std::string charges, generators;
   for (int i = 0; i < 16; ++i) {
-    const std::string x = std::to_string(60 * (i % 4)), z = std::to_string(60 * (i / 4));
-    const std::string charge_z = std::to_string(60 * (i / 4) - 15);
+    const std::string x = std::to_string(apart_m * (i % 4)), z = std::to_string(apart_m * (i / 4));
+    const std::string charge_z = std::to_string(apart_m * (i / 4) - 15);
     charges += std::string(i ? "," : "") + "{\"position\": [" + x + ", 0.5, " + charge_z +
                "], \"mass\": 100, \"explosive\": \"TNT\", \"burst\": \"air\"}";
     generators += std::string(i ? "," : "") + "{\"type\": \"brick_wall\", \"name\": \"wall" +
@@ -105,6 +108,9 @@ brisance::scene::Scene brick_walls_16_scene() {
   if (!parsed.scene) return {};
   return *parsed.scene;
 }
+
+// Walls apart by this much meet no other wall's wave within their 2 s.
+constexpr int kWallsApartAlone_m = 1000;
 
 struct BodyPose {
   Vector3d position;
@@ -202,15 +208,17 @@ BENCHMARK(BM_BrickWallToHandover)
     ->Arg(1)
     ->Unit(benchmark::kMillisecond);
 
-// The 528-brick case of issue 13 (goal: at least 3x faster than Bullet), contacts off or auto.
-void BM_BrickWalls16(benchmark::State& state) {
-  brisance::scene::Scene scene = brick_walls_16_scene();
+// The 528-brick case of issue 13 (goal: at least 3x faster than Bullet), contacts off or auto,
+// the walls 60 or 1 000 m apart (brick_walls_16_scene), to `duration_s`.
+void brick_walls_16(benchmark::State& state, double duration_s) {
+  brisance::scene::Scene scene = brick_walls_16_scene(static_cast<int>(state.range(1)));
   if (scene.objects.size() != 528) {
     state.SkipWithError("the 16 walls do not parse");
     return;
   }
   scene.simulation.collisions = state.range(0) != 0 ? brisance::scene::CollisionMode::automatic
                                                     : brisance::scene::CollisionMode::off;
+  scene.simulation.duration_s = duration_s;
   brisance::engine::Result last;
   for (auto _ : state) {
     auto outcome = simulate(scene);
@@ -221,8 +229,25 @@ void BM_BrickWalls16(benchmark::State& state) {
   state.counters["deepest_overlap_mm"] =
       1e3 * deepest_overlap(last.bodies, final_poses(last), &ground_depth);
   state.counters["below_ground_mm"] = 1e3 * ground_depth;
+  state.counters["steps"] = static_cast<double>(last.stats.steps);
 }
-BENCHMARK(BM_BrickWalls16)->ArgName("collisions")->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
+void BM_BrickWalls16(benchmark::State& state) {
+  brick_walls_16(state, 2.0);
+}
+BENCHMARK(BM_BrickWalls16)
+    ->ArgNames({"collisions", "apart_m"})
+    ->ArgsProduct({{0, 1}, {60, kWallsApartAlone_m}})
+    ->Unit(benchmark::kMillisecond);
+// Cut at kHandover_s: BM_BrickWalls16 less this is Brisance's time for the part
+// BM_BulletBrickWalls16 runs (1 000 m apart: Bullet is given no later wave).
+void BM_BrickWalls16ToHandover(benchmark::State& state) {
+  brick_walls_16(state, kHandover_s);
+}
+BENCHMARK(BM_BrickWalls16ToHandover)
+    ->ArgNames({"collisions", "apart_m"})
+    ->Args({0, kWallsApartAlone_m})
+    ->Args({1, kWallsApartAlone_m})
+    ->Unit(benchmark::kMillisecond);
 
 // 0 off, 1 auto, 2 on.
 brisance::scene::CollisionMode collision_mode(std::int64_t arg) {
@@ -294,7 +319,7 @@ BENCHMARK(BM_WindowPile)
 // per second. Compare with BM_BrickWall/collisions:1 less BM_BrickWallToHandover/collisions:1
 // (BM_BrickWall also runs the blast and the first kHandover_s).
 
-// Brisance's walls at kHandover_s (one wall, or the 16 walls).
+// Brisance's walls at kHandover_s (one wall, or the 16 walls 1 000 m apart).
 const brisance::engine::Result& handover(bool sixteen) {
   auto at_handover = [](brisance::scene::Scene scene) {
     scene.simulation.collisions = brisance::scene::CollisionMode::automatic;
@@ -304,7 +329,8 @@ const brisance::engine::Result& handover(bool sixteen) {
   };
   static const brisance::engine::Result one = at_handover(brick_wall_scene());
   if (!sixteen) return one;
-  static const brisance::engine::Result many = at_handover(brick_walls_16_scene());
+  static const brisance::engine::Result many =
+      at_handover(brick_walls_16_scene(kWallsApartAlone_m));
   return many;
 }
 
@@ -397,7 +423,8 @@ void BM_BulletBrickWall(benchmark::State& state) {
 }
 BENCHMARK(BM_BulletBrickWall)->ArgName("hz")->Arg(60)->Arg(240)->Unit(benchmark::kMillisecond);
 
-// The 16 walls (compare with BM_BrickWalls16/collisions:1).
+// The 16 walls, 1 000 m apart (compare with BM_BrickWalls16/collisions:1/apart_m:1000 less
+// BM_BrickWalls16ToHandover/collisions:1/apart_m:1000).
 void BM_BulletBrickWalls16(benchmark::State& state) {
   bullet_walls(state, true);
 }

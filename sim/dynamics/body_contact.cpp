@@ -10,6 +10,7 @@
 #include <cmath>
 
 #include "sim/dynamics/coulomb.hpp"
+#include "sim/dynamics/sticking.hpp"
 
 namespace brisance::dynamics {
 
@@ -293,6 +294,72 @@ double turn_error(const Vec3& lever, const Vec3& arm, const Vec3& normal,
   return lever.dot(buffers.turn[k]) - normal.dot(buffers.turn_minus_identity[k] * arm);
 }
 
+// Points within this of touching at the start of the step are brought to rest by the exact
+// sticking solve (the ground's margin, ground_contact.cpp).
+constexpr double kStickingTouch_m = 1e-4;
+constexpr std::size_t kMaxStickingPoints = 16;
+
+// The exact sticking solve of the ground (sticking_impulses) for an island of one moving body,
+// `x`, whose partners are all static (the ground, anchored, held and sleeping bodies): every
+// contact touching at the start of the step, if none bounces, brought to rest at once. It holds
+// if every impulse pushes and stays inside its Coulomb disc, and the body's motion after it
+// (none, or a turn about one or two points) closes no other contact's gap faster than it may
+// close within the step; then the body's velocities and the rows' impulses are set and it
+// returns true. Otherwise nothing is changed and the sweeps decide. The sweeps converge to the
+// same rest, but only to their tolerance (30 um/s), sweep after sweep.
+[[gnu::noinline]] bool stick_alone(std::vector<SolverBody>& bodies, std::uint32_t x,
+                                   std::span<const PairContact> contacts,
+                                   std::vector<ContactRow>& rows, const Mat3& inertia, double dt) {
+  SolverBody& body = bodies[x];
+  if (body.inverse_inertia == Mat3::Zero()) return false;  // (no turning: the sweeps)
+  std::array<std::uint32_t, kMaxStickingPoints> touching;
+  std::array<Vec3, kMaxStickingPoints> arms;
+  std::size_t count = 0;
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    const PairContact& c = contacts[i];
+    if (c.depth_m + c.approach_before * dt < -kStickingTouch_m) continue;
+    if (rows[i].target_speed > 0.0 || count == kMaxStickingPoints) return false;  // a bounce
+    touching[count] = static_cast<std::uint32_t>(i);
+    arms[count] = rows[i].a == x ? c.arm_a : c.arm_b;
+    ++count;
+  }
+  const double mass = 1.0 / body.inverse_mass;
+  std::array<Vec3, kMaxStickingPoints> forces;  // on the body
+  Vec3 velocity_after, momentum_after;
+  if (!sticking_impulses(
+          arms.data(), count, mass, body.velocity, inertia * body.omega, [&] { return inertia; },
+          forces.data(), velocity_after, momentum_after))
+    return false;
+  for (std::size_t k = 0; k < count; ++k) {
+    const Vec3& n = rows[touching[k]].normal;
+    const Vec3& f = forces[k];
+    const double push = rows[touching[k]].b == x ? f.dot(n) : -f.dot(n);
+    const double limit = rows[touching[k]].friction * push;
+    if (!(push >= 0.0) || (f - f.dot(n) * n).squaredNorm() > limit * limit) return false;
+  }
+  const Vec3 omega_after = body.inverse_inertia * momentum_after;
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    const ContactRow& r = rows[i];
+    const bool is_b = r.b == x;
+    const Vec3 at =
+        velocity_after + omega_after.cross(is_b ? contacts[i].arm_b : contacts[i].arm_a);
+    const double closing = is_b ? r.normal.dot(at) : -r.normal.dot(at);
+    if (closing < r.target_speed - 1e-12) return false;
+  }
+  body.velocity = velocity_after;
+  body.omega = omega_after;
+  for (ContactRow& r : rows)
+    r.normal_impulse = r.friction_u = r.friction_v = 0.0;
+  for (std::size_t k = 0; k < count; ++k) {
+    ContactRow& r = rows[touching[k]];
+    const Vec3 on_b = r.b == x ? forces[k] : Vec3(-forces[k]);
+    r.normal_impulse = on_b.dot(r.normal);
+    r.friction_u = on_b.dot(r.u);
+    r.friction_v = on_b.dot(r.v);
+  }
+  return true;
+}
+
 }  // namespace
 
 int solve_pair_contacts(std::vector<SolverBody>& bodies, std::span<PairContact> contacts,
@@ -361,8 +428,11 @@ int solve_pair_contacts(std::vector<SolverBody>& bodies, std::span<PairContact> 
   // The island's kinetic energy before the solve (passivity, below).
   double mass = 0.0;
   const double energy_before = start_energy(bodies, island, buffers, mass);
-  // Warm start.
-  for (std::size_t i = 0; i < contacts.size(); ++i) {
+  // One body against static partners only: the ground's exact sticking solve, where it holds.
+  const bool stuck =
+      island.size() == 1 && stick_alone(bodies, island[0], contacts, rows, buffers.inertia[0], dt);
+  // Warm start (not for a stuck body: its impulses are solved).
+  for (std::size_t i = 0; i < contacts.size() && !stuck; ++i) {
     const Vec3* found = last.find(contacts[i].key);
     if (!found) continue;
     ContactRow& r = rows[i];
@@ -401,7 +471,7 @@ int solve_pair_contacts(std::vector<SolverBody>& bodies, std::span<PairContact> 
         std::min(slowest, bodies[x].velocity.norm() + bodies[x].omega.norm() * bodies[x].reach_m);
   const double converged = std::max(settings.converged_m_s, settings.converged_fraction * slowest);
   int sweeps = 0;
-  while (sweeps < settings.iterations) {
+  while (!stuck && sweeps < settings.iterations) {
     ++sweeps;
     for (ContactRow& r : rows) {
       switch (r.moves) {

@@ -17,6 +17,7 @@
 #include <cmath>
 
 #include "sim/dynamics/coulomb.hpp"
+#include "sim/dynamics/sticking.hpp"
 
 namespace brisance::dynamics {
 
@@ -85,85 +86,24 @@ struct TouchingPoints {
   return true;
 }
 
-// Stage 2. Sticking: with no bounce, the contact may bring every touching point to rest at once.
-// That is an exact solution of the contact problem when some set of contact impulses does it
-// with each impulse pushing (not pulling) and inside its Coulomb disc, and it is the one the
-// sweeps converge to, only slowly for a brick on a narrow face or an edge (measured: half the
-// brick wall's contacts stopped at the sweep limit, 1e-5 m/s away). With three or more points
-// not on one line the body stops: sum F_i = -m v, sum r_i x F_i = -L. On one point it turns
-// about it and keeps its angular momentum about it; on two, it turns about their edge and
-// keeps its angular momentum about the edge. Of the impulse sets that do it, the
-// least-squares one is tried; if it pulls or leaves a disc anywhere, the sweeps decide (the
-// body slides, tips or lifts). Returns true (state and memory updated) if it holds.
+// Stage 2. Sticking: with no bounce, the contact may bring every touching point to rest at once
+// (sticking_impulses). That is an exact solution of the contact problem when some set of
+// contact impulses does it with each impulse pushing (not pulling) and inside its Coulomb disc,
+// and it is the one the sweeps converge to, only slowly for a brick on a narrow face or an edge
+// (measured: half the brick wall's contacts stopped at the sweep limit, 1e-5 m/s away). If the
+// least-squares impulses pull or leave a disc anywhere, the sweeps decide (the body slides,
+// tips or lifts). Returns true (state and memory updated) if it holds.
 [[gnu::always_inline]] inline bool solve_sticking(const BodyModel& model, BodyState& state,
                                                   const Ground& ground, ContactMemory* memory,
                                                   const TouchingPoints& touching) {
   const std::size_t count = touching.count;
-  const auto& arms = touching.arms;
   const Mat3& r = touching.rotation;
   std::array<Vec3, kMaxContacts> forces;
-  Vec3 velocity_after = Vec3::Zero();
-  Vec3 momentum_after = Vec3::Zero();
-  bool solved = false;
-  if (count >= 3) {
-    // About the points' centroid c: F_i = J / n + t x (r_i - c) with S t = H_c,
-    // S = sum |r_i - c|^2 I - (r_i - c)(r_i - c)^T.
-    const double n = static_cast<double>(count);
-    Vec3 centroid = Vec3::Zero();
-    for (std::size_t i = 0; i < count; ++i)
-      centroid += arms[i];
-    centroid /= n;
-    Mat3 spread = Mat3::Zero();
-    for (std::size_t i = 0; i < count; ++i) {
-      const Vec3 d = arms[i] - centroid;
-      spread -= d * d.transpose();
-      spread.diagonal().array() += d.squaredNorm();
-    }
-    const Vec3 impulse = -model.mass_kg * state.velocity;
-    const Vec3 torque = -state.angular_momentum - centroid.cross(impulse);  // about c
-    // Points (nearly) on one line cannot take a torque about that line.
-    const double scale = spread.trace() / 3.0;
-    if (spread.determinant() > 1e-6 * scale * scale * scale) {
-      const Vec3 twist = spread.inverse() * torque;
-      const Vec3 share = impulse / n;
-      for (std::size_t i = 0; i < count; ++i)
-        forces[i] = share + twist.cross(arms[i] - centroid);
-      solved = true;
-    }
-  } else {
-    // Turning about the first point p: angular momentum about p, L - r x m v, is kept, with
-    // the inertia about p (parallel axes); the centre then moves at r x w.
-    const Vec3& arm = arms[0];
-    const Mat3 inertia = r * model.inertia_body * r.transpose();
-    Mat3 about_point = inertia - model.mass_kg * arm * arm.transpose();
-    about_point.diagonal().array() += model.mass_kg * arm.squaredNorm();
-    const Vec3 momentum_about = state.angular_momentum - arm.cross(model.mass_kg * state.velocity);
-    Vec3 omega_after = Vec3::Zero();
-    const Vec3 edge = count == 2 ? Vec3(arms[1] - arm) : Vec3::Zero();
-    if (count == 1) {
-      omega_after = about_point.inverse() * momentum_about;
-      solved = true;
-    } else if (edge.squaredNorm() > 1e-12) {
-      const Vec3 axis = edge.normalized();
-      omega_after = (axis.dot(momentum_about) / axis.dot(about_point * axis)) * axis;
-      solved = true;
-    }
-    if (solved) {
-      velocity_after = arm.cross(omega_after);
-      momentum_after = inertia * omega_after;
-      const Vec3 impulse = model.mass_kg * (velocity_after - state.velocity);
-      if (count == 1) {
-        forces[0] = impulse;
-      } else {
-        // The second point takes the torque about the first; the pair shares the push along
-        // their edge equally.
-        const Vec3 torque = momentum_after - state.angular_momentum - arm.cross(impulse);
-        const Vec3 axis = edge.normalized();
-        forces[1] = torque.cross(edge) / edge.squaredNorm() + 0.5 * impulse.dot(axis) * axis;
-        forces[0] = impulse - forces[1];
-      }
-    }
-  }
+  Vec3 velocity_after, momentum_after;
+  const bool solved = sticking_impulses(
+      touching.arms.data(), count, model.mass_kg, state.velocity, state.angular_momentum,
+      [&] { return Mat3(r * model.inertia_body * r.transpose()); }, forces.data(), velocity_after,
+      momentum_after);
   bool holds = solved;
   for (std::size_t i = 0; i < count && holds; ++i) {
     const Vec3& f = forces[i];

@@ -124,6 +124,44 @@ TEST(Stability, BoxDroppedOnABoxComesToRest) {
   EXPECT_LT(largest_final_speed(r), 1e-3);
 }
 
+// A 0.3 m box dropped 3 mm onto an anchored slab tilted by `slope_deg` about z (friction 0.6
+// on both), never put to sleep: it rests on a static partner only.
+Result box_on_a_slope(double slope_deg) {
+  scene::Scene s;
+  s.simulation.collisions = scene::CollisionMode::automatic;
+  s.simulation.sleep = false;
+  s.simulation.duration_s = 5.0;
+  s.simulation.frame_rate_hz = 10.0;
+  const Eigen::Quaterniond tilt(Eigen::AngleAxisd(slope_deg * M_PI / 180.0, Vector3d::UnitZ()));
+  scene::ObjectSpec slab =
+      box_object("slab", Vector3d(2.0, 0.2, 2.0), Vector3d(0.0, 1.0, 0.0), 960.0);
+  slab.anchored = true;
+  slab.orientation = tilt;
+  slab.friction = 0.6;
+  scene::ObjectSpec box =
+      box_object("box", Vector3d::Constant(0.3),
+                 Vector3d(0.0, 1.0, 0.0) + tilt * Vector3d(0.0, 0.253, 0.0), 20.0);
+  box.orientation = tilt;
+  box.friction = 0.6;
+  s.objects = {slab, box};
+  return simulate(s).result;
+}
+
+TEST(Stability, BoxOnAStaticSlopeIsHeldExactlyStill) {
+  // Issue 13: the ground's exact sticking solve, for a body whose partners are all static.
+  // Within the friction angle (tan 15 deg = 0.27 < 0.6) the box is brought to rest exactly once
+  // landed, as on the ground; the sweeps alone left it creeping 1.6 um over 4 s, at 1.6 um/s
+  // at the end (measured on the code before).
+  const Result held = box_on_a_slope(15.0);
+  ASSERT_EQ(held.animated.size(), 1u);
+  EXPECT_EQ(largest_drift(held, frame_at(held, 1.0)), 0.0);
+  EXPECT_EQ(largest_final_speed(held), 0.0);
+  // Beyond it (tan 35 deg = 0.70) the impulses that would hold it leave their Coulomb discs: it
+  // slides off.
+  const Result slides = box_on_a_slope(35.0);
+  EXPECT_GT(largest_drift(slides, frame_at(slides, 1.0)), 0.5);
+}
+
 }  // namespace
 }  // namespace brisance::engine
 

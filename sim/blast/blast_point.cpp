@@ -62,4 +62,19 @@ BlastPoint blast_point(const Charge& charge, double distance_m, const Ambient& a
   return point;
 }
 
+double wave_reach_m(const Charge& charge, double time_s, const Ambient& air) {
+  assert(time_s > 0.0);
+  auto arrival = [&](double d) { return blast_point(charge, d, air).arrival_time_s; };
+  double low = 1e-3, high = 1.0;
+  while (arrival(high) < time_s && high < 1e12) {
+    low = high;
+    high *= 2.0;
+  }
+  while (high - low > 1e-6 * high) {
+    const double middle = 0.5 * (low + high);
+    (arrival(middle) < time_s ? low : high) = middle;
+  }
+  return high;
+}
+
 }  // namespace brisance::blast

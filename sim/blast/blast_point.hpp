@@ -55,4 +55,9 @@ double curve_impulse_charge_kg(const Charge& charge);
 // All parameters at distance_m (> 0) from the charge.
 BlastPoint blast_point(const Charge& charge, double distance_m, const Ambient& air = {});
 
+// How far the wave has travelled by time_s (> 0) after the detonation, m: a distance whose
+// arrival time is at least time_s, within a part in 1e6 of the least such (the arrival time
+// grows with the distance). Everything farther is reached only later.
+double wave_reach_m(const Charge& charge, double time_s, const Ambient& air = {});
+
 }  // namespace brisance::blast

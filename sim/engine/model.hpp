@@ -12,6 +12,7 @@
 // as shielding does.
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <map>
 #include <optional>
@@ -103,6 +104,7 @@ struct PanelModel {
 struct ChargeModel {
   Vec3 position;  // world, m
   blast::Charge charge;
+  double reach_m = INFINITY;  // how far its wave travels within the run (blast::wave_reach_m)
 };
 
 // The wave of one charge reaching one panel (thesis §3.5.3): on its front, its side or its rear
@@ -173,6 +175,9 @@ struct Model {
   std::vector<PanelModel> panels;
   std::vector<ChargeModel> charges;
   std::vector<PanelEvent> events;  // ascending arrival time
+  // Per panel: some charge's wave reaches it only after the run, so it has no event from that
+  // charge (prepare_events); with no other charge's load it counts as not reached.
+  std::vector<std::uint8_t> panel_beyond_reach;
   // The shielding of each panel from each charge (thesis ch. 4), charge-major (charge c, panel
   // p at c * panels.size() + p), in [0, 1]; empty: nothing shields anything. Front faces take
   // their own; side and rear faces their body's area-weighted mean (body_shielding, c *

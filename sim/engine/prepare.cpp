@@ -163,6 +163,11 @@ void prepare_events(const std::vector<BodySource>& sources, Model& model, Stats&
   for (const ChargeModel& charge : model.charges)
     charge_radius_m.push_back(
         std::cbrt(3.0 * charge.charge.tnt_equivalent_kg / (4.0 * std::numbers::pi * 1600.0)));
+  // A panel at or beyond the distance a wave travels within the run (ChargeModel::reach_m) gets
+  // no event from it (it would never start): no blast point is worked out for it (16 walls
+  // 1 000 m apart, each reached by its own charge only, have 15 such (panel, charge) pairs to
+  // every one reached).
+  model.panel_beyond_reach.assign(model.panels.size(), 0);
   for (std::uint32_t p = 0; p < model.panels.size(); ++p) {
     checkpoint.tick(1024);
     const PanelModel& panel = model.panels[p];
@@ -179,6 +184,10 @@ void prepare_events(const std::vector<BodySource>& sources, Model& model, Stats&
       if (panel.sheltered && kind != blast::FaceKind::front)
         continue;  // nothing reaches it from behind
       sheltered_from_all = false;
+      if (distance >= model.charges[c].reach_m) {
+        model.panel_beyond_reach[p] = 1;
+        continue;
+      }
       // Wholly shielded from this charge (thesis eq. 4.1 at f = 0): no load at all.
       if (!model.shielding.empty() &&
           (kind == blast::FaceKind::front
@@ -219,7 +228,9 @@ Model prepare(const scene::Scene& scene, std::vector<BodySource>& sources,
   model.supports = std::move(feet.supports);
 
   for (const scene::ChargeSpec& charge : scene.charges)
-    model.charges.push_back(ChargeModel{charge.position, blast_charge(charge)});
+    model.charges.push_back(
+        ChargeModel{charge.position, blast_charge(charge),
+                    blast::wave_reach_m(blast_charge(charge), scene.simulation.duration_s)});
 
   if (scene.simulation.clearing) {
     // Fragments keep the clearing distance their pane chose (their own edges, thesis §6.5, or

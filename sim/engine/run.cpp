@@ -551,6 +551,8 @@ void Run::finish() {
   std::vector<std::uint8_t> pending(model_.panels.size(), 0);
   for (std::size_t e = state_.next_event; e < model_.events.size(); ++e)
     pending[model_.events[e].panel] = !state_.panel_loaded[model_.events[e].panel];
+  for (std::size_t p = 0; p < model_.panel_beyond_reach.size(); ++p)
+    if (model_.panel_beyond_reach[p] && !state_.panel_loaded[p]) pending[p] = 1;
   result_.stats.panels_not_reached =
       static_cast<std::uint64_t>(std::count(pending.begin(), pending.end(), 1));
   result_.stats.panels_loaded = static_cast<std::uint64_t>(

@@ -294,6 +294,21 @@ TEST(KingeryBulmash, MonotoneInScaledDistance) {
   }
 }
 
+TEST(BlastPoint, WaveReachIsWhereTheArrivalPassesTheTime) {
+  // Inside the fits (100 kg at 0.1 s: about 40 m), beyond them (at 2 s: about 700 m, arrival
+  // continued at the far end's shock speed) and for a surface burst.
+  Charge surface{100.0};
+  surface.burst = Burst::surface;
+  for (const auto& [charge, time] :
+       {std::pair{Charge{100.0}, 0.1}, std::pair{Charge{100.0}, 2.0}, std::pair{surface, 0.05}}) {
+    const double reach = wave_reach_m(charge, time);
+    EXPECT_GE(blast_point(charge, reach).arrival_time_s, time);
+    EXPECT_LT(blast_point(charge, reach * (1.0 - 2e-6)).arrival_time_s, time);
+  }
+  EXPECT_GT(wave_reach_m(Charge{100.0}, 2.0), 600.0);
+  EXPECT_LT(wave_reach_m(Charge{100.0}, 2.0), 800.0);
+}
+
 TEST(BlastPoint, FollowsCubeRootScaling) {
   // Thesis eq. 2.19: R1 / R2 = (W1 / W2)^(1/3) gives the same pressures; times and impulses
   // scale with the cube root of the charge.

@@ -147,6 +147,26 @@ TEST(Simulator, LoadsEveryFaceAndSkipsAnchoredAndHeldBodies) {
   EXPECT_TRUE(r.stats.ended_early);
 }
 
+TEST(Simulator, APanelTheWaveReachesOnlyAfterTheRunIsNotReached) {
+  // The plate 300 m from 10 kg: the wave arrives after about 0.8 s. Within 0.1 s none of its
+  // panels is reached (they get no event at all: prepare_events works out no blast point
+  // beyond the wave's reach); a second charge 8 m away reaches them all.
+  scene::Scene far = plate_scene(300.0);
+  const Result alone = simulate(far).result;
+  EXPECT_EQ(alone.stats.panels_loaded, 0u);
+  EXPECT_EQ(alone.stats.panels_not_reached, alone.stats.panels);
+  EXPECT_EQ(alone.stats.body_steps, 0u);
+  EXPECT_TRUE(alone.warnings.empty());  // the far charge's Z is never worked out
+  far.charges.push_back(tnt(10.0, Vector3d(0.0, 0.0, 8.0)));
+  const Result both = simulate(far).result;
+  EXPECT_EQ(both.stats.panels_loaded, both.stats.panels);
+  EXPECT_EQ(both.stats.panels_not_reached, 0u);
+  // Given the time, the far wave arrives too: its panels are loaded then.
+  far.charges.pop_back();
+  far.simulation.duration_s = 1.5;
+  EXPECT_EQ(simulate(far).result.stats.panels_not_reached, 0u);
+}
+
 TEST(Simulator, StackedBodiesAreHeldByTheWeightAboveThem) {
   // Thesis §3.6: lower bricks have more resistance. A column of three 10 kg blocks: the top one
   // is held by mu m g, the middle by mu 2 m g, the bottom by mu 3 m g. With mu set so that the

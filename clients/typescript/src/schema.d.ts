@@ -995,7 +995,7 @@ export interface components {
             body_steps: number;
             /** @description No occlusion pass ran. */
             occlusion_skipped: boolean;
-            /** @description (panel, charge) pairs wholly shielded, so never loaded. Absent from results made before shielding. */
+            /** @description (panel, charge) pairs wholly shielded, so never loaded, among those the charge's wave reaches within the run. Absent from results made before shielding. */
             panels_shielded?: number;
             /** @description Breakable panes cut into fragments. */
             panes_broken: number;
@@ -1069,7 +1069,7 @@ export interface components {
             shielding?: components["schemas"]["ChargeShielding"][];
             job: components["schemas"]["Job"];
         };
-        /** @description What shielded bodies from one charge (thesis ch. 4) - every body whose loads it scaled down, with its area-weighted mean attenuation (bodies at 1 are left out). */
+        /** @description What shielded bodies from one charge (thesis ch. 4) - every body whose loads it scaled down, with its area-weighted mean attenuation (bodies at 1, and bodies its wave does not reach within the run, are left out). */
         ChargeShielding: {
             /** @description Index into the scene's charges. */
             charge: number;

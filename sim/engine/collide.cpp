@@ -200,10 +200,7 @@ void Run::part_joined_pairs() {
       joined[out++] = pair;
       continue;
     }
-    const double grow = margin[a] + margin[b];
-    if ((state_.box_min[a].array() > state_.box_max[b].array() + grow).any() ||
-        (state_.box_min[b].array() > state_.box_max[a].array() + grow).any())
-      continue;
+    if (boxes_apart(a, b, margin[a] + margin[b])) continue;
     const dynamics::BodyState& sa = state_.bodies[a];
     const dynamics::BodyState& sb = state_.bodies[b];
     const Vec3 relative_position = sa.orientation.conjugate() * (sb.position - sa.position);
@@ -235,6 +232,26 @@ void Run::part_joined_pairs() {
   joined.resize(out);
 }
 
+bool Run::in_flight(std::uint32_t b) const {
+  return state_.motion[b] == Motion::awake && !state_.touching_ground[b];
+}
+
+bool Run::boxes_apart(std::uint32_t a, std::uint32_t b, double gap) const {
+  return (state_.box_min[a].array() > state_.box_max[b].array() + gap).any() ||
+         (state_.box_min[b].array() > state_.box_max[a].array() + gap).any();
+}
+
+void Run::form_pair(std::uint32_t a, std::uint32_t b, bool a_flies, double dt,
+                    std::uint64_t& culled) {
+  if (boxes_apart(a, b, state_.margin[a] + state_.margin[b])) return;
+  if (a_flies && (model_.fragment[a] || model_.fragment[b]) && in_flight(b) &&
+      boxes_apart(a, b, relative_margin(a, b, dt))) {
+    ++culled;
+    return;
+  }
+  state_.pairs.emplace_back(std::min(a, b), std::max(a, b));
+}
+
 double Run::relative_margin(std::uint32_t a, std::uint32_t b, double dt) const {
   const Vec3 relative = (state_.bodies[b].velocity - state_.bodies[a].velocity) * dt;
   return kContactMargin_m + relative.norm() + state_.spin_margin[a] + state_.spin_margin[b];
@@ -246,10 +263,9 @@ double Run::relative_margin(std::uint32_t a, std::uint32_t b, double dt) const {
 // pairs a step on window.json, 94 % of them culled, and the sweep a quarter of the run. Here
 // each box is grown instead by its motion relative to the flock's mean velocity: two bodies'
 // relative motion is at most the sum of theirs to the mean, so the sweep meets every pair the
-// relative margin keeps, and the same tests as collide's then keep the same pairs.
+// relative margin keeps, and form_pair's tests then keep the same pairs.
 void Run::sweep_flying_fragments(double dt, std::uint64_t& culled) {
   const auto& flying = state_.sweep_fragments;
-  const auto& margin = state_.margin;
   Vec3 mean = Vec3::Zero();
   for (const std::uint32_t b : flying)
     mean += state_.bodies[b].velocity;
@@ -269,20 +285,8 @@ void Run::sweep_flying_fragments(double dt, std::uint64_t& culled) {
   for (std::size_t i = 0; i < order.size(); ++i) {
     const std::uint32_t a = order[i].second;
     const double high = state_.box_max[a][axis] + flock_margin[a];
-    for (std::size_t k = i + 1; k < order.size() && order[k].first <= high; ++k) {
-      const std::uint32_t b = order[k].second;
-      const double grow = margin[a] + margin[b];
-      if ((state_.box_min[a].array() > state_.box_max[b].array() + grow).any() ||
-          (state_.box_min[b].array() > state_.box_max[a].array() + grow).any())
-        continue;
-      const double near = relative_margin(a, b, dt);
-      if ((state_.box_min[a].array() > state_.box_max[b].array() + near).any() ||
-          (state_.box_min[b].array() > state_.box_max[a].array() + near).any()) {
-        ++culled;
-        continue;
-      }
-      state_.pairs.emplace_back(std::min(a, b), std::max(a, b));
-    }
+    for (std::size_t k = i + 1; k < order.size() && order[k].first <= high; ++k)
+      form_pair(a, order[k].second, true, dt, culled);
   }
 }
 
@@ -379,10 +383,6 @@ void Run::collide(double dt) {
     }
     order[j] = body;
   }
-  // Awake and not on the ground (in this step's integration).
-  auto in_flight = [&](std::uint32_t b) {
-    return state_.motion[b] == Motion::awake && !state_.touching_ground[b];
-  };
   // A fragment and a body both in flight: their margin is their motion relative to each other
   // in the step (plus kContactMargin_m), not each one's own, and the pair is left out here if
   // their boxes are farther apart than that: however fast both fly, they cannot meet in the
@@ -425,19 +425,7 @@ void Run::collide(double dt) {
     for (std::size_t k = first; k < list.size() && low_of(list[k]) <= high; ++k) {
       const std::uint32_t b = list[k];
       if (!a_awake && state_.motion[b] != Motion::awake) continue;
-      const double grow = margin[a] + margin[b];
-      if ((state_.box_min[a].array() > state_.box_max[b].array() + grow).any() ||
-          (state_.box_min[b].array() > state_.box_max[a].array() + grow).any())
-        continue;
-      if (a_flies && (model_.fragment[a] || model_.fragment[b]) && in_flight(b)) {
-        const double near = relative_margin(a, b, dt);
-        if ((state_.box_min[a].array() > state_.box_max[b].array() + near).any() ||
-            (state_.box_min[b].array() > state_.box_max[a].array() + near).any()) {
-          ++culled;
-          continue;
-        }
-      }
-      pairs.emplace_back(std::min(a, b), std::max(a, b));
+      form_pair(a, b, a_flies, dt, culled);
     }
   };
   // Both lists keep the order's; walking it, next_other and next_fragment are where each list

@@ -227,10 +227,11 @@ Model prepare(const scene::Scene& scene, std::vector<BodySource>& sources,
   }
   model.supports = std::move(feet.supports);
 
-  for (const scene::ChargeSpec& charge : scene.charges)
-    model.charges.push_back(
-        ChargeModel{charge.position, blast_charge(charge),
-                    blast::wave_reach_m(blast_charge(charge), scene.simulation.duration_s)});
+  for (const scene::ChargeSpec& spec : scene.charges) {
+    const blast::Charge charge = blast_charge(spec);
+    model.charges.push_back(ChargeModel{spec.position, charge,
+                                        blast::wave_reach_m(charge, scene.simulation.duration_s)});
+  }
 
   if (scene.simulation.clearing) {
     // Fragments keep the clearing distance their pane chose (their own edges, thesis §6.5, or

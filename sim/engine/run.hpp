@@ -180,9 +180,17 @@ class Run {
   void collide(double dt);  // contacts between bodies (collide.cpp)
   void init_collisions();
   void part_joined_pairs();
+  // Awake and not on the ground (in this step's integration).
+  bool in_flight(std::uint32_t b) const;
+  // Whether the two bodies' boxes are farther apart than `gap` along some axis.
+  bool boxes_apart(std::uint32_t a, std::uint32_t b, double gap) const;
   // How near two bodies in flight can come in a step: kContactMargin_m plus their motion
   // relative to each other (collide.cpp).
   double relative_margin(std::uint32_t a, std::uint32_t b, double dt) const;
+  // The broadphase's test of a pair the sweep met: kept in state_.pairs if the boxes grown by
+  // both margins meet, unless a fragment and a body both in flight (`a_flies`) lie farther
+  // apart than their relative margin (then counted in `culled`).
+  void form_pair(std::uint32_t a, std::uint32_t b, bool a_flies, double dt, std::uint64_t& culled);
   void sweep_flying_fragments(double dt, std::uint64_t& culled);
   void place_body(std::uint32_t b);
   void sleep_after_contacts(double dt);

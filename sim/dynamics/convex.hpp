@@ -79,10 +79,17 @@ struct Manifold {
 // of this pair of pieces (a multiple of 256). A face contact of more than four points is cut
 // to four (extremes across the normal) unless `all_points` (the caller then cuts them itself,
 // after filtering them). A face contact is clipped `side_margin_m` outside the reference
-// face's sides (negative: `margin_m`).
+// face's sides (negative: `margin_m`). `step` is how b moved relative to a in the step that
+// brought them here: pieces that overlap now but were apart before it get the normal of the
+// face they came through last, not of the least overlap (which, past the middle of a thin
+// body, points out of its far side).
+struct StepMotion {
+  Vec3 moved = Vec3::Zero();  // b's displacement relative to a's, m
+  double turned_m = 0.0;      // how far the turns of both can have moved a point, m
+};
 bool collide(const PlacedPiece& a, const PlacedPiece& b, double margin_m,
              std::uint32_t feature_base, Manifold& out, bool all_points = false,
-             double side_margin_m = -1.0);
+             double side_margin_m = -1.0, const StepMotion& step = {});
 
 // Whether pieces a and b are farther than `margin_m` apart along one of their separating axes
 // (a negative margin: overlap by less than its size along one of them); the test of collide

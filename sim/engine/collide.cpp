@@ -556,6 +556,8 @@ void Run::collide(double dt) {
       state_.next_pair_cache.back().first = points_first;
     } else {
       const double found_margin = kCacheMargin * pair_margin;
+      const dynamics::StepMotion step{(sb.velocity - sa.velocity) * dt,
+                                      spin_margin[a] + spin_margin[b]};
       place_body(a);
       place_body(b);
       const auto& pa = state_.placed[a];
@@ -563,7 +565,8 @@ void Run::collide(double dt) {
       for (std::size_t i = 0; i < pa.size(); ++i)
         for (std::size_t j = 0; j < pb.size(); ++j) {
           const std::uint32_t base = static_cast<std::uint32_t>((i * pb.size() + j) << 8);
-          if (!dynamics::collide(pa[i], pb[j], found_margin, base, manifold, true, pair_margin))
+          if (!dynamics::collide(pa[i], pb[j], found_margin, base, manifold, true, pair_margin,
+                                 step))
             continue;
           const Vec3 normal_a = ra.transpose() * manifold.normal;
           for (const dynamics::ContactPoint& p : manifold.points) {

@@ -339,6 +339,21 @@ TEST(Contacts, GiveAPanesFragmentsStrikingAWallNoEnergy) {
   // Shifts out of what penetration is left add a little (measured: 2.4 cm more, 0.632 against
   // 0.607 m; before, a sliver shifted out of contacts predicted metres deep moved 2.3 m).
   EXPECT_LT(farthest_step(r), farthest_step(without) + 0.05);
+  // And at most one passes through the wall (its back face at z = -0.9 m). Before the narrowphase
+  // was given the step's motion, 117 did: at 14 m/s a piece ends a 9.5 ms step more than half
+  // through the 20 cm wall, whose back face was then the contact's. One still may: a piece
+  // spinning so fast that its turn within the step (10 cm at its edge) hides which face it came
+  // in through, which the narrowphase does not follow (docs/simulator.md, Tunnelling).
+  std::size_t through = 0;
+  for (std::size_t b = 0; b < r.bodies.size(); ++b) {
+    const auto& p = r.final_state[b].pose;
+    const Eigen::Quaterniond q(p.orientation[3], p.orientation[0], p.orientation[1],
+                               p.orientation[2]);
+    const Vector3d centre = position(r.final_state[b]) +
+                            q * geometry::mass_properties(r.bodies[b].mesh, 1.0).centre_of_mass;
+    through += r.bodies[b].fragment && centre.z() < -0.9;
+  }
+  EXPECT_LE(through, 1u);
 }
 
 TEST(Contacts, AutoSweepsAPanesFragmentsOnlyAgainstOtherBodies) {

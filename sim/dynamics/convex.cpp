@@ -452,64 +452,57 @@ bool collide(const PlacedPiece& a, const PlacedPiece& b, double margin_m,
     return false;
   // Separating axes. Face axes first; an edge axis must separate clearly better to be chosen
   // (by 0.1 margin), so resting faces keep a face normal.
-  double best = -INFINITY;
-  Vec3 axis = Vec3::UnitY();
-  std::size_t reference_face = 0;  // of a, or of b if reference_is_b
-  bool reference_is_b = false;
-  // Along each face axis also the separation at the start of the step (b moved back by its
-  // displacement; the turns, not followed, may have moved it by up to turned_m either way),
-  // and the face through which the pieces came into overlap last in the step: the one with
-  // the latest entry.
-  double best_before = 0.0;
-  double latest_entry = -INFINITY, entered = 0.0;
-  Vec3 entry_axis = Vec3::UnitY();
-  std::size_t entry_face = 0;
-  bool entry_is_b = false;
-  const auto face_axis = [&](double separation, const Vec3& normal, std::size_t f, bool of_b) {
-    const double before = separation - step.moved.dot(normal);
-    if (separation > best) {
-      best = separation;
-      best_before = before;
-      axis = normal;
-      reference_face = f;
-      reference_is_b = of_b;
+  struct FaceAxis {
+    double separation = -INFINITY;
+    Vec3 normal = Vec3::UnitY();
+    std::size_t face = 0;  // of a, or of b if of_b
+    bool of_b = false;
+  };
+  // The face axis of least overlap, and the one through which the pieces came into overlap
+  // last in the step (the latest entry), judged by the separation at the start of the step
+  // along each: b moved back by its displacement, the turns (not followed) may have moved it
+  // by up to turned_m either way.
+  FaceAxis least, entry;
+  double least_before = 0.0, latest_entry = -INFINITY;
+  const auto face_axis = [&](const FaceAxis& here) {
+    const double before = here.separation - step.moved.dot(here.normal);
+    if (here.separation > least.separation) {
+      least = here;
+      least_before = before;
     }
     const double apart = before + step.turned_m;  // at most, at the start
-    if (apart > 0.0 && separation < apart) {
-      const double entry = apart / (apart - separation);  // fraction of the step
-      if (entry > latest_entry) {
-        latest_entry = entry;
-        entered = separation;
-        entry_axis = normal;
-        entry_face = f;
-        entry_is_b = of_b;
+    if (apart > 0.0 && here.separation < apart) {
+      const double entered = apart / (apart - here.separation);  // fraction of the step
+      if (entered > latest_entry) {
+        latest_entry = entered;
+        entry = here;
       }
     }
   };
   for (std::size_t f = 0; f < a.normals.size(); ++f) {
     const double separation = face_gap(a, b, f);
     if (separation > margin_m) return false;
-    face_axis(separation, a.normals[f], f, false);
+    face_axis({separation, a.normals[f], f, false});
   }
   for (std::size_t f = 0; f < b.normals.size(); ++f) {
     const double separation = face_gap(b, a, f);
     if (separation > margin_m) return false;
-    face_axis(separation, -b.normals[f], f, true);
+    face_axis({separation, -b.normals[f], f, true});
   }
   // Pieces that overlap at the end of the step, and along the axis of least overlap now were
   // deeper at its start by more than the turns can explain (the one piece moving out through
-  // the other's far side), came in through the face they crossed last: a fragment at 14 m/s, 12 cm
-  // into a 20 cm wall after one 9.5 ms step, overlaps it least towards its back face and was
-  // pushed out through it (docs/simulator.md, Tunnelling). Where the pieces only slid along
-  // the axis of least overlap, it stays (two fragments meeting side by side in a pile).
-  const bool came_through =
-      best < 0.0 && best - best_before > step.turned_m && latest_entry > -INFINITY;
-  if (came_through) {
-    best = entered;
-    axis = entry_axis;
-    reference_face = entry_face;
-    reference_is_b = entry_is_b;
-  }
+  // the other's far side), came in through the face they crossed last: a fragment at 14 m/s,
+  // 12 cm into a 20 cm wall after one 9.5 ms step, overlaps it least towards its back face and
+  // was pushed out through it (docs/simulator.md, Tunnelling). Where the pieces only slid
+  // along the axis of least overlap, it stays (two fragments meeting side by side in a pile).
+  const bool came_through = least.separation < 0.0 &&
+                            least.separation - least_before > step.turned_m &&
+                            latest_entry > -INFINITY;
+  const FaceAxis& chosen = came_through ? entry : least;
+  double best = chosen.separation;
+  Vec3 axis = chosen.normal;
+  const std::size_t reference_face = chosen.face;
+  const bool reference_is_b = chosen.of_b;
   const Vec3 between = 0.5 * (b.min + b.max - a.min - a.max);
   bool edge_axis = false;
   for (const Vec3& ea : a.edge_directions)

@@ -82,7 +82,8 @@ struct Manifold {
 // face's sides (negative: `margin_m`). `step` is how b moved relative to a in the step that
 // brought them here: pieces that overlap now but were apart before it get the normal of the
 // face they came through last, not of the least overlap (which, past the middle of a thin
-// body, points out of its far side).
+// body, points out of its far side); pieces apart now that surely met within the step (one
+// passed right through the other) get the axis they met through, as deep as one is past it.
 struct StepMotion {
   Vec3 moved = Vec3::Zero();  // b's displacement relative to a's, m
   double turned_m = 0.0;      // how far the turns of both can have moved a point, m

@@ -153,6 +153,36 @@ TEST(Collide, APlateDrivenDeepIntoAWallInOneStepIsPushedBackOutOfItsFront) {
     EXPECT_NEAR(p.depth_m, 1e-4, 1e-12);
 }
 
+TEST(Collide, APlatePassedRightThroughInOneStepIsMetAtItsFace) {
+  // A 10 cm block moving 18 cm in the step, from 5 cm before a 2 cm plate to 1 cm past it:
+  // apart at both ends of the step. Without the step's motion the contact is a gap beyond the
+  // plate's back face; swept, the block met the front face and is 13 cm past it. A block that
+  // only passed beside the plate meets nothing.
+  const CollisionShape plate =
+      collision_shape(geometry::make_box(Vec3(2.0, 2.0, 0.02)), Vec3::Zero());
+  const CollisionShape block =
+      collision_shape(geometry::make_box(Vec3(0.1, 0.1, 0.1)), Vec3::Zero());
+  PlacedPiece a, b;
+  place(plate.pieces[0], Vec3::Zero(), Mat3::Identity(), a);  // faces at z = -0.01, +0.01
+  place(block.pieces[0], Vec3(0.0, 0.0, 0.01 + 0.01 + 0.05), Mat3::Identity(), b);
+  Manifold manifold;
+  const StepMotion step{Vec3(0.0, 0.0, 0.18), 0.0};
+  ASSERT_TRUE(collide(a, b, 0.2, 0, manifold));
+  EXPECT_NEAR(manifold.normal.z(), 1.0, 1e-12);
+  for (const ContactPoint& p : manifold.points)
+    EXPECT_LT(p.depth_m, 0.0);  // a gap past the back face
+  ASSERT_TRUE(collide(a, b, 0.2, 0, manifold, false, -1.0, step));
+  EXPECT_NEAR(manifold.normal.z(), -1.0, 1e-12);  // from the plate towards where it came from
+  ASSERT_FALSE(manifold.points.empty());
+  for (const ContactPoint& p : manifold.points)
+    EXPECT_NEAR(p.depth_m, 0.13, 1e-9);  // its far face 13 cm past the front
+  place(block.pieces[0], Vec3(1.2, 0.0, 0.07), Mat3::Identity(), b);  // beside the plate
+  ASSERT_TRUE(collide(a, b, 0.2, 0, manifold, false, -1.0, step));
+  EXPECT_NEAR(manifold.normal.x(), 1.0, 1e-12);
+  for (const ContactPoint& p : manifold.points)
+    EXPECT_LT(p.depth_m, 0.0);
+}
+
 // Passivity: a solve gives an island no more kinetic energy than 1 % and a step's gravity.
 // The island is one from a run (window.json's pane broken against an anchored wall 0.8 m
 // behind it, over a ground, collisions auto; numbers printed to 17 digits): a 4 g sliver that

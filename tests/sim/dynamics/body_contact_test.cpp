@@ -102,19 +102,34 @@ TEST(Separated, AgreesWithTheNarrowphaseAcrossFacesAndEdges) {
   EXPECT_FALSE(separated(a, b, -5e-5));  // but by more than 0.05 mm
 }
 
+// An unturned box's collision piece, placed with its centre at `centre` (and moved by place).
+class PlacedBox {
+ public:
+  PlacedBox(const Vec3& size, const Vec3& centre)
+      : shape_(collision_shape(geometry::make_box(size), Vec3::Zero())) {
+    place(centre);
+  }
+  PlacedBox(const PlacedBox&) = delete;
+  PlacedBox& operator=(const PlacedBox&) = delete;
+  void place(const Vec3& centre) {
+    dynamics::place(shape_.pieces[0], centre, Mat3::Identity(), placed_);
+  }
+  const PlacedPiece& operator*() const { return placed_; }
+
+ private:
+  CollisionShape shape_;
+  PlacedPiece placed_;
+};
+
 TEST(Collide, APlateDrivenDeepIntoAWallInOneStepIsPushedBackOutOfItsFront) {
   // A 6 mm plate at 14 m/s towards a 20 cm wall ends a 9.5 ms step 13.6 cm past where it was,
   // 12 cm inside the wall: nearer the back face than the front. The least overlap points out
   // through the back face, and the plate was pushed on through the wall (92 of window.json's
   // fragments passed an anchored wall 0.8 m behind the pane so). Given the step's motion, the
   // normal is the front face's, which the plate crossed within the step.
-  const CollisionShape wall =
-      collision_shape(geometry::make_box(Vec3(4.0, 3.0, 0.2)), Vec3::Zero());
-  const CollisionShape plate =
-      collision_shape(geometry::make_box(Vec3(0.1, 0.1, 0.006)), Vec3::Zero());
-  PlacedPiece a, b;
-  place(wall.pieces[0], Vec3::Zero(), Mat3::Identity(), a);  // front face at z = +0.1
-  place(plate.pieces[0], Vec3(0.0, 0.0, 0.1 + 0.003 - 0.121), Mat3::Identity(), b);
+  const PlacedBox wall(Vec3(4.0, 3.0, 0.2), Vec3::Zero());  // front face at z = +0.1
+  PlacedBox plate(Vec3(0.1, 0.1, 0.006), Vec3(0.0, 0.0, 0.1 + 0.003 - 0.121));
+  const PlacedPiece &a = *wall, &b = *plate;
   Manifold manifold;
   const StepMotion step{Vec3(0.0, 0.0, -14.3 * 0.0095), 0.0};
   ASSERT_TRUE(collide(a, b, 0.01, 0, manifold));
@@ -127,7 +142,7 @@ TEST(Collide, APlateDrivenDeepIntoAWallInOneStepIsPushedBackOutOfItsFront) {
   // A turn the step does not follow may have moved the plate's faces: a plate that was
   // already 0.1 mm into the front face at the start of the step keeps the least overlap
   // unless the turn could have kept it apart then.
-  place(plate.pieces[0], Vec3(0.0, 0.0, 0.1 + 0.003 - 0.0001 - 0.136), Mat3::Identity(), b);
+  plate.place(Vec3(0.0, 0.0, 0.1 + 0.003 - 0.0001 - 0.136));
   ASSERT_TRUE(collide(a, b, 0.01, 0, manifold, false, -1.0, {Vec3(0.0, 0.0, -0.136), 0.0}));
   EXPECT_NEAR(manifold.normal.z(), -1.0, 1e-12);
   ASSERT_TRUE(collide(a, b, 0.01, 0, manifold, false, -1.0, {Vec3(0.0, 0.0, -0.136), 1e-3}));
@@ -136,17 +151,14 @@ TEST(Collide, APlateDrivenDeepIntoAWallInOneStepIsPushedBackOutOfItsFront) {
   // top of a cube by 1.5 mm, which came 5.7 mm in through its side within the step, is pushed
   // up by 1.5 mm, not back out through the side (in a pile of fragments, pushing them sideways
   // by the larger depth sank pieces into the ground).
-  const CollisionShape cube = collision_shape(geometry::make_box(Vec3::Ones()), Vec3::Zero());
-  const CollisionShape block =
-      collision_shape(geometry::make_box(Vec3(0.1, 0.1, 0.1)), Vec3::Zero());
-  PlacedPiece c, d;
-  place(cube.pieces[0], Vec3::Zero(), Mat3::Identity(), c);
-  place(block.pieces[0], Vec3(0.5 - 0.0057 + 0.05, 0.5 - 0.0015 + 0.05, 0.0), Mat3::Identity(), d);
-  ASSERT_TRUE(collide(c, d, 0.01, 0, manifold, false, -1.0, {Vec3(-0.0095, 0.0, 0.0), 0.0}));
+  const PlacedBox cube(Vec3::Ones(), Vec3::Zero());
+  const PlacedBox block(Vec3(0.1, 0.1, 0.1), Vec3(0.5 - 0.0057 + 0.05, 0.5 - 0.0015 + 0.05, 0.0));
+  ASSERT_TRUE(
+      collide(*cube, *block, 0.01, 0, manifold, false, -1.0, {Vec3(-0.0095, 0.0, 0.0), 0.0}));
   EXPECT_NEAR(manifold.normal.y(), 1.0, 1e-12);
   // Resting contact is unchanged: a plate sunk 0.1 mm into the front face, and moving a hair
   // further in, keeps the front face's normal and depth.
-  place(plate.pieces[0], Vec3(0.0, 0.0, 0.1 + 0.003 - 0.0001), Mat3::Identity(), b);
+  plate.place(Vec3(0.0, 0.0, 0.1 + 0.003 - 0.0001));
   ASSERT_TRUE(collide(a, b, 0.01, 0, manifold, false, -1.0, {Vec3(0.0, 0.0, -1e-5), 0.0}));
   EXPECT_NEAR(manifold.normal.z(), 1.0, 1e-12);
   for (const ContactPoint& p : manifold.points)
@@ -158,13 +170,9 @@ TEST(Collide, APlatePassedRightThroughInOneStepIsMetAtItsFace) {
   // apart at both ends of the step. Without the step's motion the contact is a gap beyond the
   // plate's back face; swept, the block met the front face and is 13 cm past it. A block that
   // only passed beside the plate meets nothing.
-  const CollisionShape plate =
-      collision_shape(geometry::make_box(Vec3(2.0, 2.0, 0.02)), Vec3::Zero());
-  const CollisionShape block =
-      collision_shape(geometry::make_box(Vec3(0.1, 0.1, 0.1)), Vec3::Zero());
-  PlacedPiece a, b;
-  place(plate.pieces[0], Vec3::Zero(), Mat3::Identity(), a);  // faces at z = -0.01, +0.01
-  place(block.pieces[0], Vec3(0.0, 0.0, 0.01 + 0.01 + 0.05), Mat3::Identity(), b);
+  const PlacedBox plate(Vec3(2.0, 2.0, 0.02), Vec3::Zero());  // faces at z = -0.01, +0.01
+  PlacedBox block(Vec3(0.1, 0.1, 0.1), Vec3(0.0, 0.0, 0.01 + 0.01 + 0.05));
+  const PlacedPiece &a = *plate, &b = *block;
   Manifold manifold;
   const StepMotion step{Vec3(0.0, 0.0, 0.18), 0.0};
   ASSERT_TRUE(collide(a, b, 0.2, 0, manifold));
@@ -176,7 +184,7 @@ TEST(Collide, APlatePassedRightThroughInOneStepIsMetAtItsFace) {
   ASSERT_FALSE(manifold.points.empty());
   for (const ContactPoint& p : manifold.points)
     EXPECT_NEAR(p.depth_m, 0.13, 1e-9);  // its far face 13 cm past the front
-  place(block.pieces[0], Vec3(1.2, 0.0, 0.07), Mat3::Identity(), b);  // beside the plate
+  block.place(Vec3(1.2, 0.0, 0.07));     // beside the plate
   ASSERT_TRUE(collide(a, b, 0.2, 0, manifold, false, -1.0, step));
   EXPECT_NEAR(manifold.normal.x(), 1.0, 1e-12);
   for (const ContactPoint& p : manifold.points)

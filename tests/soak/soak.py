@@ -114,6 +114,7 @@ class Load:
         self.retried = 0  # submissions sent again after a failed attempt
         self.retried_existing = 0  # ... whose retry found the job the lost attempt had made
         self.stop_event = threading.Event()
+        self.answer_deadline = 0.0
         self.threads = []
 
     def start(self, submitters=2, pollers=2):
@@ -125,7 +126,12 @@ class Load:
         for thread in self.threads:
             thread.start()
 
-    def stop(self):
+    def stop(self, answer_s=60):
+        # A submission whose answer was lost (the server killed between its commit and its
+        # answer) is retried after the stop too, until answered or for answer_s: given up at
+        # once, its job was in the store but not among the accepted, and counted a duplicate
+        # (the last kill came just before the stop).
+        self.answer_deadline = time.monotonic() + answer_s
         self.stop_event.set()
         for thread in self.threads:
             thread.join()
@@ -141,7 +147,8 @@ class Load:
             # Until an answer arrives: a crash between the commit and the answer is retried with
             # the same key and body, and must give the same job back.
             tries = 0
-            while not self.stop_event.is_set():
+            while not self.stop_event.is_set() or (
+                    tries > 0 and time.monotonic() < self.answer_deadline):
                 port = self.port
                 if port:
                     tries += 1

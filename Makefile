@@ -28,7 +28,7 @@ BENCH_DEB_PACKAGES := libccd-dev libbullet-dev
 FUZZ_SECONDS ?= 60
 FUZZ_TARGETS := fuzz_scene fuzz_http fuzz_writers fuzz_fracture
 
-.PHONY: all deps node gltf-validator web web-test-deps deploy-test-deps fuzz-deps fuzz-build fuzz soak build run test sanitize bench narrowphase-bench load-bench load-bench-postgres accuracy-study format clean
+.PHONY: all deps node gltf-validator web web-test-deps deploy-test-deps fuzz-deps fuzz-build fuzz soak build run test sanitize bench-deps bench narrowphase-bench load-bench load-bench-postgres accuracy-study format clean
 
 all: build
 
@@ -143,8 +143,14 @@ test: deps gltf-validator web web-test-deps deploy-test-deps fuzz-build
 	cd $(BUILD_DIR)/sanitize && ctest --output-on-failure -j $(JOBS)
 	cd $(BUILD_DIR)/fuzz && ctest --output-on-failure
 
-# Benchmarks need an optimised build.
-bench: build
+# Benchmarks need an optimised build, and step_bench's Bullet side by side needs Bullet (bench
+# packages; the configure step looks for them again once they are installed).
+bench-deps: build
+	$(call apt_install,$(BENCH_DEB_PACKAGES))
+	cmake -S . -B $(BUILD_DIR)/release -U__pkg_config_checked_CCD -U__pkg_config_checked_BULLET
+	cmake --build $(BUILD_DIR)/release -j $(JOBS)
+
+bench: bench-deps
 	$(BUILD_DIR)/release/bench/blast_bench
 	$(BUILD_DIR)/release/bench/step_bench
 	$(BUILD_DIR)/release/bench/fracture_bench
@@ -154,10 +160,7 @@ bench: build
 
 # The narrowphase against libccd's GJK/EPA and MPR on the same box pairs
 # (bench/results/narrowphase.txt).
-narrowphase-bench: build
-	$(call apt_install,$(BENCH_DEB_PACKAGES))
-	cmake -S . -B $(BUILD_DIR)/release -U__pkg_config_checked_CCD
-	cmake --build $(BUILD_DIR)/release -j $(JOBS) --target narrowphase_bench
+narrowphase-bench: bench-deps
 	$(BUILD_DIR)/release/bench/narrowphase_bench
 
 # The job service under load: POST, GET, fixed-rate and drain phases against a spawned server.

@@ -3,6 +3,8 @@
 //   warm start last step's impulses by contact key, friction kept inside its Coulomb disc
 //   sweeps     accumulated clamping, until a sweep changes no body's velocity by more than
 //              30 um/s or 0.3 % of the island's slowest body's speed
+//   runaway    a solve that did not converge and left a body faster than twice the island's
+//              fastest, done again: without friction, then with friction capped by that pass
 //   positions  the penetration beyond the slop, removed by shifts along the normals
 #include "sim/dynamics/body_contact.hpp"
 
@@ -86,7 +88,7 @@ inline void prepare_friction(const std::vector<SolverBody>& bodies, ContactRow& 
 // partner's velocities are zero and stay zero, so the terms it would add are exactly zero and
 // are left out (the same numbers, fewer loads; most contacts late in a run are with the
 // ground or a sleeping body).
-template <bool AMoves, bool BMoves>
+template <bool AMoves, bool BMoves, bool Capped>
 inline void sweep_row(std::vector<SolverBody>& bodies, ContactRow& r) {
   SolverBody& a = bodies[r.a];
   SolverBody& b = bodies[r.b];
@@ -130,7 +132,9 @@ inline void sweep_row(std::vector<SolverBody>& bodies, ContactRow& r) {
   }
   // Friction on the disc of the normal impulse (none without one: a gap, or a contact pulled
   // apart, which is most speculative contacts; skipped, it spares the clamp's root).
-  const double limit = r.friction * r.normal_impulse;
+  // (Capped: the friction bound may not grow with the normal impulse beyond friction_cap.)
+  const double limit =
+      r.friction * (Capped ? std::min(r.normal_impulse, r.friction_cap) : r.normal_impulse);
   double fu = 0.0, fv = 0.0;
   if (limit > 0.0) {
     if (!r.friction_ready) prepare_friction(bodies, r);
@@ -237,18 +241,25 @@ constexpr double kExactTurn_rad = 1e-3;
 // edge would meet the wall within a quarter turn and take the spin back out.
 constexpr double kMaxContactTurn_rad = 0.25 * 3.14159265358979323846;
 
+// The fastest any body of the island may leave the solve: twice the island's fastest body
+// before it, plus a step's gravity (a heavy body striking a light one at rest, perfectly
+// elastic, gives it twice its speed). A guard, not a law (a column of ever lighter bodies
+// passes more on).
+double speed_bound(const PairSolveBuffers& buffers, std::size_t island_size, double dt,
+                   double gravity_m_s2) {
+  double fastest = 0.0;
+  for (std::size_t k = 0; k < island_size; ++k)
+    fastest = std::max(fastest, buffers.start_velocity[k].norm());
+  return 2.0 * fastest + gravity_m_s2 * dt;
+}
+
 [[gnu::noinline]] void limit_motion(std::vector<SolverBody>& bodies,
                                     const std::vector<std::uint32_t>& island,
                                     PairSolveBuffers& buffers, double dt, double gravity_m_s2) {
-  // Speeds: none leaves faster than twice the island's fastest body before the solve, plus a
-  // step's gravity (a heavy body striking a light one at rest, perfectly elastic, gives it
-  // twice its speed). A guard, not a law (a column of ever lighter bodies passes more on): in
-  // a pile of a pane's pieces pressed against a wall, the unconverged sweeps gave specks of
-  // under a microgram hundreds of m/s within the 1 % of the island's energy allowed above.
-  double fastest = 0.0;
-  for (std::size_t k = 0; k < island.size(); ++k)
-    fastest = std::max(fastest, buffers.start_velocity[k].norm());
-  const double bound = 2.0 * fastest + gravity_m_s2 * dt;
+  // Speeds: none leaves faster than speed_bound. In a pile of a pane's pieces pressed against
+  // a wall, the unconverged sweeps gave specks of under a microgram hundreds of m/s within the
+  // 1 % of the island's energy allowed above.
+  const double bound = speed_bound(buffers, island.size(), dt, gravity_m_s2);
   for (std::size_t k = 0; k < island.size(); ++k) {
     Vec3& velocity = bodies[island[k]].velocity;
     const double speed = velocity.norm();
@@ -360,6 +371,48 @@ constexpr std::size_t kMaxStickingPoints = 16;
   return true;
 }
 
+// Sweeps over the rows until one changes no body's velocity by more than `converged` (at its
+// farthest contact point), at most `iterations`; returns how many, and whether they `settled`.
+template <bool Capped>
+int sweep(std::vector<SolverBody>& bodies, const std::vector<std::uint32_t>& island,
+          std::vector<ContactRow>& rows, double converged, int iterations, bool& settled) {
+  for (std::uint32_t x : island) {
+    bodies[x].swept_velocity = bodies[x].velocity;
+    bodies[x].swept_omega = bodies[x].omega;
+  }
+  int sweeps = 0;
+  settled = false;
+  while (!settled && sweeps < iterations) {
+    ++sweeps;
+    for (ContactRow& r : rows) {
+      switch (r.moves) {
+        case 1:
+          sweep_row<true, false, Capped>(bodies, r);
+          break;
+        case 2:
+          sweep_row<false, true, Capped>(bodies, r);
+          break;
+        default:
+          sweep_row<true, true, Capped>(bodies, r);
+          break;
+      }
+    }
+    // (Once one body has changed by the tolerance the sweep has not converged: the others'
+    // changes are not measured, only recorded.)
+    settled = true;
+    for (std::uint32_t x : island) {
+      SolverBody& body = bodies[x];
+      if (settled && (body.velocity - body.swept_velocity).norm() +
+                             (body.omega - body.swept_omega).norm() * body.reach_m >=
+                         converged)
+        settled = false;
+      body.swept_velocity = body.velocity;
+      body.swept_omega = body.omega;
+    }
+  }
+  return sweeps;
+}
+
 }  // namespace
 
 int solve_pair_contacts(std::vector<SolverBody>& bodies, std::span<PairContact> contacts,
@@ -413,6 +466,7 @@ int solve_pair_contacts(std::vector<SolverBody>& bodies, std::span<PairContact> 
     r.friction_ready = false;
     r.friction = c.friction;
     r.normal_impulse = r.friction_u = r.friction_v = 0.0;
+    r.friction_cap = 0.0;
     const double approach = relative_speed(a, b, r, n, 0);
     c.approach_before = approach;
     // Restitution on the approach speed before this step's gravity: a body resting on another
@@ -461,44 +515,44 @@ int solve_pair_contacts(std::vector<SolverBody>& bodies, std::span<PairContact> 
   // contact point; PairSolveSettings). Judged on the bodies, not on each contact's impulse: where a
   // body rests on more points than it needs (four corners of a brick), the sweeps keep passing
   // impulse from one point to another long after the velocities have settled.
-  for (std::uint32_t x : island) {
-    bodies[x].swept_velocity = bodies[x].velocity;
-    bodies[x].swept_omega = bodies[x].omega;
-  }
   double slowest = INFINITY;
   for (std::uint32_t x : island)
     slowest =
         std::min(slowest, bodies[x].velocity.norm() + bodies[x].omega.norm() * bodies[x].reach_m);
   const double converged = std::max(settings.converged_m_s, settings.converged_fraction * slowest);
   int sweeps = 0;
-  while (!stuck && sweeps < settings.iterations) {
-    ++sweeps;
-    for (ContactRow& r : rows) {
-      switch (r.moves) {
-        case 1:
-          sweep_row<true, false>(bodies, r);
-          break;
-        case 2:
-          sweep_row<false, true>(bodies, r);
-          break;
-        default:
-          sweep_row<true, true>(bodies, r);
-          break;
-      }
+  bool settled = stuck;
+  if (!stuck) sweeps = sweep<false>(bodies, island, rows, converged, settings.iterations, settled);
+  // A solve that did not converge and left a body faster than speed_bound has run away: its
+  // sweeps were driving impulses up, not settling them, and where they stopped is noise of
+  // that size. Friction bounded by the normal impulse does this where it can press a contact
+  // harder than the normal impulse pushes it apart (a sliver's corner dragged across a face,
+  // pieces wedged in a pile: docs/simulator.md, *Runaway solves*): on window.json's pieces
+  // piled against a wall, the sum of the normal impulses of one island of 76 000 points grew
+  // from 18 to 81 N s in its 60 sweeps while its fastest body went from 49 to 774 m/s and
+  // back, and pieces left the pile at up to 44 m/s from 14.7 m/s launches. Such an island is
+  // solved again from its velocities before the solve (no warm start): first without friction
+  // (normal impulses alone only push apart), then with friction capped at what each contact's
+  // normal impulse from that first pass can bear, so that friction can no longer raise the
+  // impulses that bound it.
+  bool runaway = false;
+  if (!settled) {
+    const double bound = speed_bound(buffers, island.size(), dt, settings.gravity_m_s2);
+    for (std::uint32_t x : island)
+      runaway = runaway || bodies[x].velocity.norm() > bound;
+  }
+  if (runaway) {
+    for (std::size_t k = 0; k < island.size(); ++k) {
+      bodies[island[k]].velocity = buffers.start_velocity[k];
+      bodies[island[k]].omega = buffers.start_omega[k];
     }
-    // (Once one body has changed by the tolerance the sweep has not converged: the others'
-    // changes are not measured, only recorded.)
-    bool settled = true;
-    for (std::uint32_t x : island) {
-      SolverBody& body = bodies[x];
-      if (settled && (body.velocity - body.swept_velocity).norm() +
-                             (body.omega - body.swept_omega).norm() * body.reach_m >=
-                         converged)
-        settled = false;
-      body.swept_velocity = body.velocity;
-      body.swept_omega = body.omega;
-    }
-    if (settled) break;
+    for (ContactRow& r : rows)
+      r.normal_impulse = r.friction_u = r.friction_v = r.friction_cap = 0.0;
+    sweeps += sweep<true>(bodies, island, rows, converged, settings.iterations, settled);
+    for (ContactRow& r : rows)
+      r.friction_cap = r.normal_impulse;
+    sweeps += sweep<true>(bodies, island, rows, converged, settings.iterations, settled);
+    ++buffers.runaways;
   }
   keep_passive(bodies, island, rows, buffers, energy_before,
                mass * std::pow(settings.gravity_m_s2 * dt, 2));

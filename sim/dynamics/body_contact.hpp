@@ -86,6 +86,9 @@ struct ContactRow {
   std::array<Vec3, 3> lever_a, lever_b, spin_a, spin_b;
   double mass_normal, mass_u, mass_v, target_speed, friction;
   double normal_impulse, friction_u, friction_v;
+  // The normal impulse whose friction the contact may bear at most, N s, when a solve that ran
+  // away is done again (solve_pair_contacts); unused otherwise.
+  double friction_cap;
 };
 
 // The solve's buffers, kept by the caller from step to step to spare their allocations.
@@ -106,6 +109,7 @@ struct PairSolveBuffers {
   std::uint64_t energy_limited = 0;  // islands whose solve was scaled back (passivity)
   std::uint64_t spin_limited = 0;    // bodies whose spin from the solve was limited
   std::uint64_t speed_limited = 0;   // bodies whose speed from the solve was limited
+  std::uint64_t runaways = 0;        // islands solved again, their friction capped (runaway)
 };
 
 struct PairSolveSettings {

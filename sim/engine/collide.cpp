@@ -705,6 +705,7 @@ void Run::collide(double dt) {
     const std::uint64_t limited_before = state_.solve_buffers.energy_limited;
     const std::uint64_t spun_before = state_.solve_buffers.spin_limited;
     const std::uint64_t sped_before = state_.solve_buffers.speed_limited;
+    const std::uint64_t runaways_before = state_.solve_buffers.runaways;
     // Warm start as forces: last step's impulses in proportion to the step's length, at most
     // doubled (an impact's impulse in a tiny step is no force to scale up).
     if (state_.contact_impulses_dt_s > 0.0)
@@ -737,6 +738,10 @@ void Run::collide(double dt) {
          "contacts would have spun a body by more than a quarter turn in one step (a thin piece "
          "struck on an edge) and its spin was limited to that, as the contacts found once a step "
          "cannot follow it; shorten the step (lower 'tolerance') if these bodies matter"},
+        {solved.runaways - runaways_before, "contact_solve_runaway",
+         "a contact solve of pieces jammed together ran away (friction kept raising the impulses "
+         "that bound it) and was done again with each contact's friction capped at what its "
+         "push alone can bear; the motion of pieces in such piles is approximate"},
         {solved.speed_limited - sped_before, "contact_speed_limited",
          "contacts would have sent a body off faster than twice the fastest body they touched (a "
          "light piece squeezed in a pile) and its speed was limited to that"},

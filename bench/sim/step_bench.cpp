@@ -165,7 +165,9 @@ std::vector<BodyPose> final_poses(const brisance::engine::Result& r) {
 // cut there takes the same steps as the whole run up to it.
 constexpr double kHandover_s = 0.1;
 
-void brick_wall(benchmark::State& state, double duration_s) {
+// `tolerance`: the scene's simulation.tolerance (its adaptive step; the example's is the
+// default, 1e-3).
+void brick_wall(benchmark::State& state, double duration_s, double tolerance = 1e-3) {
   brisance::scene::Scene scene = brick_wall_scene();
   if (scene.objects.empty()) {
     state.SkipWithError("scenes/brick_wall.json does not parse");
@@ -174,6 +176,7 @@ void brick_wall(benchmark::State& state, double duration_s) {
   scene.simulation.collisions = state.range(0) != 0 ? brisance::scene::CollisionMode::automatic
                                                     : brisance::scene::CollisionMode::off;
   scene.simulation.duration_s = duration_s;
+  scene.simulation.tolerance = tolerance;
   std::uint64_t contact_points = 0;
   brisance::engine::Result last;
   for (auto _ : state) {
@@ -188,6 +191,7 @@ void brick_wall(benchmark::State& state, double duration_s) {
   state.counters["deepest_overlap_mm"] =
       1e3 * deepest_overlap(last.bodies, final_poses(last), &ground_depth);
   state.counters["below_ground_mm"] = 1e3 * ground_depth;
+  state.counters["steps"] = static_cast<double>(last.stats.steps);
 }
 
 // Goal: scenes/brick_wall.json (2 s at 30 fps) in under 5 ms of simulation on one core.
@@ -206,6 +210,28 @@ BENCHMARK(BM_BrickWallToHandover)
     ->ArgName("collisions")
     ->Arg(0)
     ->Arg(1)
+    ->Unit(benchmark::kMillisecond);
+
+// The wall with contacts at a coarser tolerance (the second argument, in units of 1e-4: 100 is
+// 1e-2), whole and cut at kHandover_s: at 1e-2 the adaptive step takes about as many steps
+// from 0.1 s to 2 s as Bullet at 60 Hz (114), so BM_BrickWallAtTolerance less
+// BM_BrickWallAtToleranceToHandover against BM_BulletBrickWall/hz:60 compares the cost of a
+// step, not the number of steps.
+void BM_BrickWallAtTolerance(benchmark::State& state) {
+  brick_wall(state, 2.0, 1e-4 * static_cast<double>(state.range(1)));
+}
+BENCHMARK(BM_BrickWallAtTolerance)
+    ->ArgNames({"collisions", "tolerance_e4"})
+    ->Args({1, 100})
+    ->Args({1, 300})
+    ->Unit(benchmark::kMillisecond);
+void BM_BrickWallAtToleranceToHandover(benchmark::State& state) {
+  brick_wall(state, kHandover_s, 1e-4 * static_cast<double>(state.range(1)));
+}
+BENCHMARK(BM_BrickWallAtToleranceToHandover)
+    ->ArgNames({"collisions", "tolerance_e4"})
+    ->Args({1, 100})
+    ->Args({1, 300})
     ->Unit(benchmark::kMillisecond);
 
 // The 528-brick case of issue 13 (goal: at least 3x faster than Bullet), contacts off or auto,

@@ -706,18 +706,38 @@ bool collide(const PlacedPiece& a, const PlacedPiece& b, double margin_m,
     std::uint32_t feature = feature_base + 255;
     const auto& a_edges = a.piece->edges;
     const auto& b_edges = b.piece->edges;
-    // (b's edges on its supporting side, found once, not once per edge of a.)
-    thread_local std::vector<std::uint32_t> b_side;
+    // b's edges on its supporting side, found once (not once per edge of a), each with the
+    // sphere around it. Two edges are at least as far apart as their spheres, less `slack`
+    // for rounding: a pair whose spheres are farther apart than the closest pair so far cannot
+    // be closer, and is passed over (the band takes nearly every edge of a fragment: its
+    // margin grows with the pieces' motion; on window.json with "on" the 16 500 edge contacts
+    // measured 590 pairs each).
+    struct SideEdge {
+      std::uint32_t index;
+      Vec3 middle;
+      double half_length;
+    };
+    thread_local std::vector<SideEdge> b_side;
     b_side.clear();
-    for (std::size_t j = 0; j < b_edges.size(); ++j)
-      if (!(axis.dot(b.vertices[b_edges[j][0]]) > b_low + band ||
-            axis.dot(b.vertices[b_edges[j][1]]) > b_low + band))
-        b_side.push_back(static_cast<std::uint32_t>(j));
+    for (std::size_t j = 0; j < b_edges.size(); ++j) {
+      const Vec3& q0 = b.vertices[b_edges[j][0]];
+      const Vec3& q1 = b.vertices[b_edges[j][1]];
+      if (axis.dot(q0) > b_low + band || axis.dot(q1) > b_low + band) continue;
+      b_side.push_back({static_cast<std::uint32_t>(j), 0.5 * (q0 + q1), 0.5 * (q1 - q0).norm()});
+    }
+    const double slack =
+        1e-9 + 1e-14 * std::max({a.min.cwiseAbs().maxCoeff(), a.max.cwiseAbs().maxCoeff(),
+                                 b.min.cwiseAbs().maxCoeff(), b.max.cwiseAbs().maxCoeff()});
     for (std::size_t i = 0; i < a_edges.size(); ++i) {
       const Vec3& p0 = a.vertices[a_edges[i][0]];
       const Vec3& p1 = a.vertices[a_edges[i][1]];
       if (axis.dot(p0) < a_high - band || axis.dot(p1) < a_high - band) continue;
-      for (const std::uint32_t j : b_side) {
+      const Vec3 middle = 0.5 * (p0 + p1);
+      const double half_length = 0.5 * (p1 - p0).norm();
+      for (const SideEdge& edge : b_side) {
+        const double apart = (edge.middle - middle).norm() - half_length - edge.half_length - slack;
+        if (apart > 0.0 && apart * apart > closest) continue;
+        const std::uint32_t j = edge.index;
         const Vec3& q0 = b.vertices[b_edges[j][0]];
         const Vec3& q1 = b.vertices[b_edges[j][1]];
         double d2;

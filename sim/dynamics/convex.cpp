@@ -452,6 +452,14 @@ void face_manifold(const PlacedPiece& reference, const PlacedPiece& incident, st
   }
 }
 
+// What the rounding of projections onto an axis can move them by, for pieces a and b: 1e-14 of
+// their coordinates' size (a bound computed another way must give that much room to agree
+// with them).
+double projection_rounding(const PlacedPiece& a, const PlacedPiece& b) {
+  return 1e-14 * std::max({a.min.cwiseAbs().maxCoeff(), a.max.cwiseAbs().maxCoeff(),
+                           b.min.cwiseAbs().maxCoeff(), b.max.cwiseAbs().maxCoeff()});
+}
+
 // The separations of two pieces along their face axes, as collide and separated measure them:
 // along each of a's face normals, then each of b's reversed (from a to b), with the vertex of
 // the other piece least far along it.
@@ -503,10 +511,7 @@ class SeparationBound {
       }
       gaps_.push_back(b.vertices[y] - a.vertices[x]);
     }
-    // The projections' rounding, which the bound does not share: 1e-14 of the coordinates.
-    const double size = std::max({a.min.cwiseAbs().maxCoeff(), a.max.cwiseAbs().maxCoeff(),
-                                  b.min.cwiseAbs().maxCoeff(), b.max.cwiseAbs().maxCoeff()});
-    slack_ = 1e-14 * size + 1e-15;
+    slack_ = projection_rounding(a, b) + 1e-15;
   }
   bool active() const { return !gaps_.empty(); }
   // Whether the separation of b beyond a along `axis` is surely at most `limit` (by `slack_`).
@@ -725,9 +730,7 @@ bool collide(const PlacedPiece& a, const PlacedPiece& b, double margin_m,
       if (axis.dot(q0) > b_low + band || axis.dot(q1) > b_low + band) continue;
       b_side.push_back({static_cast<std::uint32_t>(j), 0.5 * (q0 + q1), 0.5 * (q1 - q0).norm()});
     }
-    const double slack =
-        1e-9 + 1e-14 * std::max({a.min.cwiseAbs().maxCoeff(), a.max.cwiseAbs().maxCoeff(),
-                                 b.min.cwiseAbs().maxCoeff(), b.max.cwiseAbs().maxCoeff()});
+    const double slack = 1e-9 + projection_rounding(a, b);
     for (std::size_t i = 0; i < a_edges.size(); ++i) {
       const Vec3& p0 = a.vertices[a_edges[i][0]];
       const Vec3& p1 = a.vertices[a_edges[i][1]];

@@ -110,7 +110,7 @@ TEST(Separated, AgreesWithTheNarrowphaseAcrossFacesAndEdges) {
 // the other (separated); otherwise b beyond a along a's face normals, a beyond b along b's,
 // and along each edge axis turned towards b's box from a's (collide).
 bool apart_on_some_axis(const PlacedPiece& a, const PlacedPiece& b, double margin_m, bool both_ways,
-                        bool& by_edge_axis_only) {
+                        bool* by_edge_axis_only = nullptr) {
   const auto gap = [](const PlacedPiece& low, const PlacedPiece& high, const Vec3& axis) {
     double low_top = -INFINITY, high_bottom = INFINITY;
     for (const Vec3& v : low.vertices)
@@ -133,7 +133,7 @@ bool apart_on_some_axis(const PlacedPiece& a, const PlacedPiece& b, double margi
       if (axis.dot(between) < 0.0) axis = -axis;
       by_edge = by_edge || gap(a, b, axis) > margin_m || (both_ways && gap(b, a, axis) > margin_m);
     }
-  by_edge_axis_only = by_edge && !by_face;
+  if (by_edge_axis_only) *by_edge_axis_only = by_edge && !by_face;
   return by_face || by_edge;
 }
 
@@ -182,10 +182,9 @@ TEST(Separated, FragmentPrismsAreTestedOnEveryAxisThatCouldSeparateThem) {
       place(second.pieces[0], offset, turn(spread), b);
       for (const double margin : {0.0, 2e-3, -1e-4}) {
         bool edge_only_here = false;
-        const bool expected = apart_on_some_axis(a, b, margin, true, edge_only_here);
+        const bool expected = apart_on_some_axis(a, b, margin, true, &edge_only_here);
         EXPECT_EQ(separated(a, b, margin), expected) << trial << " " << distance << " " << margin;
-        bool collide_edge_only = false;
-        const bool collide_expected = apart_on_some_axis(a, b, margin, false, collide_edge_only);
+        const bool collide_expected = apart_on_some_axis(a, b, margin, false);
         EXPECT_EQ(!collide(a, b, margin, 0, manifold), collide_expected)
             << trial << " " << distance << " " << margin;
         ++cases;

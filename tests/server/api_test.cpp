@@ -676,14 +676,15 @@ TEST(Api, MetricsCountRequestsAndJobs) {
   TestServer server;
   const std::string id = submit(server, quick_scene());
   ASSERT_EQ(wait_for(server, id, "succeeded").at("status"), "succeeded");
-  const std::string text = server.request("GET", "/metrics").body;
+  const std::string finished = "brisance_jobs_finished_total{outcome=\"succeeded\"} 1";
+  const std::string text = server.scrape_metrics_until(finished);
   EXPECT_NE(
       text.find(
           "brisance_http_requests_total{route=\"/v1/jobs\",method=\"POST\",status=\"202\"} 1"),
       std::string::npos)
       << text;
   EXPECT_NE(text.find("brisance_jobs{state=\"succeeded\"} 1"), std::string::npos);
-  EXPECT_NE(text.find("brisance_jobs_finished_total{outcome=\"succeeded\"} 1"), std::string::npos);
+  EXPECT_NE(text.find(finished), std::string::npos) << text;
   EXPECT_NE(text.find("brisance_job_run_seconds_count 1"), std::string::npos);
   EXPECT_NE(
       text.find(

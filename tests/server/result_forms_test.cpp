@@ -162,7 +162,7 @@ TEST(ResultForms, StoredBytesInTheStatsAndTheMetrics) {
   ASSERT_GT(stored, 0);
   EXPECT_EQ(server.get_json("/v1/jobs/" + id).at("stats").at("stored_bytes"), stored);
   EXPECT_EQ(server.get_json("/v1/jobs/" + id + "/result").at("stats").at("stored_bytes"), stored);
-  const std::string metrics = server.request("GET", "/metrics").body;
+  const std::string metrics = server.scrape_metrics_until("\nbrisance_results_stored_total 1\n");
   EXPECT_NE(metrics.find("\nbrisance_results_stored_total 1\n"), std::string::npos) << metrics;
   EXPECT_NE(metrics.find("\nbrisance_result_stored_bytes_total " + std::to_string(stored) + "\n"),
             std::string::npos);

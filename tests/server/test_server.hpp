@@ -3,10 +3,12 @@
 // on an ephemeral port — and the scenes the server tests submit.
 #pragma once
 
+#include <chrono>
 #include <cstdlib>
 #include <filesystem>
 #include <memory>
 #include <string>
+#include <thread>
 
 #include <nlohmann/json.hpp>
 
@@ -154,6 +156,19 @@ class TestServer {
   }
   nlohmann::json get_json(const std::string& target, const Headers& headers = {}) {
     return nlohmann::json::parse(request("GET", target, {}, headers).body);
+  }
+  // /metrics once it holds `line`, or as it is after 10 s. A worker counts a job after the store
+  // has taken its result, so a client that sees "succeeded" can scrape before the counts move
+  // (seen with PostgreSQL, whose commit is visible before the worker's call returns); a scraper
+  // sees them on its next pass, and so does this.
+  std::string scrape_metrics_until(const std::string& line) {
+    std::string text = request("GET", "/metrics").body;
+    for (const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+         text.find(line) == std::string::npos && std::chrono::steady_clock::now() < deadline;) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+      text = request("GET", "/metrics").body;
+    }
+    return text;
   }
 
  private:

@@ -14,6 +14,7 @@
 //                  is released
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cmath>
 #include <numeric>
 #include <span>
@@ -46,6 +47,13 @@ constexpr double kJoinedRetest_m = 6e-4;
 // start touching but not overlapping, once they overlap by no more than kJoinedOverlap_m.
 constexpr double kJoinedGap_m = 2e-3;
 constexpr double kJoinedOverlap_m = 1e-4;
+
+// A finite double's bits, reordered so that unsigned comparison orders as the doubles do (-0
+// and +0 alike), for sorting on integers.
+std::uint64_t ordered_bits(double x) {
+  const auto bits = std::bit_cast<std::uint64_t>(x + 0.0);  // (+ 0.0: -0 becomes +0)
+  return (bits >> 63) != 0 ? ~bits : bits | (std::uint64_t{1} << 63);
+}
 
 std::uint64_t contact_key(std::uint64_t a, std::uint64_t b, std::uint32_t feature) {
   return (a << 40) | (b << 16) | (feature & 0xFFFFu);
@@ -673,23 +681,32 @@ void Run::collide(double dt) {
       const std::uint32_t ra = root(c.a), rb = root(c.b);
       if (ra != rb) parent[std::max(ra, rb)] = std::min(ra, rb);
     }
-    // By island, then bottom up within it, so a stack's weight is passed down within a sweep.
+    // By island, then bottom up within it, so a stack's weight is passed down within a sweep:
+    // counted into islands (their roots are solve bodies), then each island sorted on packed
+    // keys, whose comparisons read no contact. (One sort of all the contacts was 7 % of the
+    // 16 walls' run, its comparisons mostly of islands.)
     std::vector<std::uint32_t>& island = state_.contact_island;
     island.resize(contacts.size());
-    for (std::size_t i = 0; i < contacts.size(); ++i)
+    auto& start = state_.island_start;
+    start.assign(solver.size() + 1, 0);
+    for (std::size_t i = 0; i < contacts.size(); ++i) {
       island[i] = root(contacts[i].a != 0 ? contacts[i].a : contacts[i].b);
-    // (Sorted on packed keys: the comparisons then read no contact.)
+      ++start[island[i] + 1];
+    }
+    std::partial_sum(start.begin(), start.end(), start.begin());
     auto& order_keys = state_.contact_order;
     order_keys.resize(contacts.size());
     for (std::size_t i = 0; i < contacts.size(); ++i)
-      order_keys[i] = ContactOrder{island[i], contacts[i].point.y(), contacts[i].key,
-                                   static_cast<std::uint32_t>(i)};
-    std::sort(order_keys.begin(), order_keys.end(),
-              [](const ContactOrder& x, const ContactOrder& y) {
-                if (x.island != y.island) return x.island < y.island;
-                if (x.height != y.height) return x.height < y.height;
-                return x.key < y.key;
-              });
+      order_keys[start[island[i]]++] = ContactOrder{ordered_bits(contacts[i].point.y()),
+                                                    contacts[i].key, static_cast<std::uint32_t>(i),
+                                                    island[i]};
+    // (Filling moved each island's start on to its end, where the next island begins.)
+    for (std::size_t s = 0, first = 0; s < solver.size(); first = start[s++])
+      if (start[s] - first > 1)
+        std::sort(order_keys.begin() + static_cast<std::ptrdiff_t>(first),
+                  order_keys.begin() + start[s], [](const ContactOrder& x, const ContactOrder& y) {
+                    return x.height != y.height ? x.height < y.height : x.key < y.key;
+                  });
     auto& sorted = state_.sorted_contacts;
     auto& sorted_held = state_.sorted_held;
     sorted.clear();

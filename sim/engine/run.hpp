@@ -28,10 +28,10 @@ struct ActiveLoad {
 // A contact's place in the solve: by island, then bottom up (collide.cpp); sorted on these
 // packed keys, the comparisons read no contact.
 struct ContactOrder {
-  std::uint32_t island;
-  double height;  // of the point, m
+  std::uint64_t height;  // of the point, as ordered bits (collide.cpp)
   std::uint64_t key;
   std::uint32_t index;
+  std::uint32_t island;
 };
 
 // The narrowphase of a pair of bodies, kept while their relative pose barely changes
@@ -137,6 +137,7 @@ struct RunState {
   std::vector<std::uint32_t> solver_body;  // per solver body: the body
   std::vector<std::uint32_t> contact_island;
   std::vector<ContactOrder> contact_order;
+  std::vector<std::uint32_t> island_start;  // per solve body: its island's first in contact_order
   std::vector<double> pushed;
   dynamics::PairSolveBuffers solve_buffers;
   // Last step's and this step's narrowphase by pair, sorted by key (pairs come sorted).

@@ -29,6 +29,9 @@ namespace {
 using dynamics::Mat3;
 
 constexpr double kContactMargin_m = 2e-3;  // speculative distance added to each body's motion
+// Boxes the sweep passes over are apart by more than this, m: far more than the rounding of
+// coordinates up to 10^6 m, far less than any margin.
+constexpr double kSweptSlack_m = 1e-6;
 constexpr std::uint64_t kGroundId = 0xFFFFFF;
 // A pair's narrowphase is found with this multiple of its margin and kept while the pair's
 // relative motion stays within the difference and within kCacheMove_m (PairCache). Chosen on
@@ -424,16 +427,37 @@ void Run::collide(double dt) {
     const bool apart = model_.fragment[b] && (fragments_apart || in_flight(b));
     (apart ? fragments : others).push_back(b);
   }
+  // Their boxes grown by their margins, alongside. The sweep passes over many bodies for each
+  // pair it forms (17 on the 16 walls, where four walls share each stretch of the axis):
+  // those whose grown boxes are apart across the axis, surely (by kSweptSlack_m, more than
+  // the rounding of either test), are passed over here, with no call of form_pair, whose first
+  // test would have left them out.
+  auto swept = [&](const std::vector<std::uint32_t>& list, std::vector<SweptBox>& boxes) {
+    boxes.resize(list.size());
+    for (std::size_t k = 0; k < list.size(); ++k) {
+      const std::uint32_t b = list[k];
+      boxes[k] = SweptBox{state_.box_min[b] - Vec3::Constant(margin[b]),
+                          state_.box_max[b] + Vec3::Constant(margin[b]), b,
+                          state_.motion[b] == Motion::awake};
+      boxes[k].low[axis] = low_of(b);  // (the sweep's own key, exactly)
+    }
+  };
+  swept(others, state_.swept_others);
+  swept(fragments, state_.swept_fragments);
   std::uint64_t culled = 0;
   // a against the bodies of `list` from `first` on, while their boxes start within a's.
-  auto sweep = [&](std::uint32_t a, const std::vector<std::uint32_t>& list, std::size_t first) {
+  auto sweep = [&](std::uint32_t a, const std::vector<SweptBox>& list, std::size_t first) {
     const double high = state_.box_max[a][axis] + margin[a];
+    const Vec3 a_low = state_.box_min[a] - Vec3::Constant(margin[a] + kSweptSlack_m);
+    const Vec3 a_high = state_.box_max[a] + Vec3::Constant(margin[a] + kSweptSlack_m);
     const bool a_awake = state_.motion[a] == Motion::awake;
     const bool a_flies = in_flight(a);
-    for (std::size_t k = first; k < list.size() && low_of(list[k]) <= high; ++k) {
-      const std::uint32_t b = list[k];
-      if (!a_awake && state_.motion[b] != Motion::awake) continue;
-      form_pair(a, b, a_flies, dt, culled);
+    for (std::size_t k = first; k < list.size() && list[k].low[axis] <= high; ++k) {
+      const SweptBox& b = list[k];
+      if (!a_awake && !b.awake) continue;
+      if ((b.low.array() > a_high.array()).any() || (a_low.array() > b.high.array()).any())
+        continue;
+      form_pair(a, b.body, a_flies, dt, culled);
     }
   };
   // Both lists keep the order's; walking it, next_other and next_fragment are where each list
@@ -443,11 +467,11 @@ void Run::collide(double dt) {
     if (state_.shapes[a].pieces.empty()) continue;
     if (next_fragment < fragments.size() && fragments[next_fragment] == a) {
       ++next_fragment;
-      sweep(a, others, next_other);
+      sweep(a, state_.swept_others, next_other);
     } else {
       ++next_other;
-      sweep(a, others, next_other);
-      sweep(a, fragments, next_fragment);
+      sweep(a, state_.swept_others, next_other);
+      sweep(a, state_.swept_fragments, next_fragment);
     }
   }
   if (!fragments_apart && fragments.size() > 1) sweep_flying_fragments(dt, culled);

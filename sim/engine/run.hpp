@@ -34,6 +34,14 @@ struct ContactOrder {
   std::uint32_t island;
 };
 
+// A body's world box grown by its margin, as the broadphase's sweep reads it (collide.cpp): in
+// the sweep's order, so that the bodies a sweep passes over are read one after another.
+struct SweptBox {
+  Vec3 low, high;
+  std::uint32_t body;
+  bool awake;
+};
+
 // The narrowphase of a pair of bodies, kept while their relative pose barely changes
 // (collide.cpp): the pose of b in a's frame it was found at, the margin it was found with, and
 // its points (first, count) in RunState::cached_points.
@@ -113,6 +121,7 @@ struct RunState {
   std::vector<Vec3> shape_box_centre, shape_box_half;
   std::vector<std::uint32_t> sweep_order;
   std::vector<std::uint32_t> sweep_others, sweep_fragments;    // the step's order, split
+  std::vector<SweptBox> swept_others, swept_fragments;         // and their boxes, alongside
   std::vector<std::pair<double, std::uint32_t>> sweep_flying;  // `on`: fragments in flight,
   std::vector<double> flying_margin;  // sorted by their boxes' low ends less their margins
                                       // relative to the flock (collide)

@@ -28,7 +28,7 @@ BENCH_DEB_PACKAGES := libccd-dev libbullet-dev
 FUZZ_SECONDS ?= 60
 FUZZ_TARGETS := fuzz_scene fuzz_http fuzz_writers fuzz_fracture
 
-.PHONY: all deps node gltf-validator web web-test-deps deploy-test-deps fuzz-deps fuzz-build fuzz soak build run test sanitize bench-deps bench narrowphase-bench load-bench load-bench-postgres accuracy-study format clean
+.PHONY: all deps node gltf-validator web web-test-deps deploy-test-deps fuzz-deps fuzz-build fuzz soak build run test sanitize bench-deps bench contact-goals narrowphase-bench load-bench load-bench-postgres accuracy-study format clean
 
 all: build
 
@@ -157,6 +157,11 @@ bench: bench-deps
 	$(BUILD_DIR)/release/bench/occlusion_bench
 	$(BUILD_DIR)/release/bench/response_bench
 	$(BUILD_DIR)/release/bench/facade_bench
+
+# Issue 13's speed goals (contacts between bodies), judged from one step_bench invocation:
+# ratios against Bullet and against the runs without contacts, medians of 3.
+contact-goals: bench-deps
+	python3 bench/sim/contact_goals.py --step-bench $(BUILD_DIR)/release/bench/step_bench
 
 # The narrowphase against libccd's GJK/EPA and MPR on the same box pairs
 # (bench/results/narrowphase.txt).

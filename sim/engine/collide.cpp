@@ -436,10 +436,10 @@ void Run::collide(double dt) {
     boxes.resize(list.size());
     for (std::size_t k = 0; k < list.size(); ++k) {
       const std::uint32_t b = list[k];
+      // (low[axis] is low_of(b), the sweep's own key: the same subtraction.)
       boxes[k] = SweptBox{state_.box_min[b] - Vec3::Constant(margin[b]),
                           state_.box_max[b] + Vec3::Constant(margin[b]), b,
                           state_.motion[b] == Motion::awake};
-      boxes[k].low[axis] = low_of(b);  // (the sweep's own key, exactly)
     }
   };
   swept(others, state_.swept_others);
@@ -721,9 +721,9 @@ void Run::collide(double dt) {
     auto& order_keys = state_.contact_order;
     order_keys.resize(contacts.size());
     for (std::size_t i = 0; i < contacts.size(); ++i)
-      order_keys[start[island[i]]++] = ContactOrder{ordered_bits(contacts[i].point.y()),
-                                                    contacts[i].key, static_cast<std::uint32_t>(i),
-                                                    island[i]};
+      order_keys[start[island[i]]++] =
+          ContactOrder{ordered_bits(contacts[i].point.y()), contacts[i].key,
+                       static_cast<std::uint32_t>(i), island[i]};
     // (Filling moved each island's start on to its end, where the next island begins.)
     for (std::size_t s = 0, first = 0; s < solver.size(); first = start[s++])
       if (start[s] - first > 1)

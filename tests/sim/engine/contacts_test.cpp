@@ -275,7 +275,7 @@ TEST(Contacts, BrokenPaneLandsWithoutFragmentsInsideEachOther) {
   // leave the pane as without contacts (the same release times and launch speeds) and end on
   // the ground on and beside each other, not inside each other.
   scene::Scene s = window_before_a_wall(4.0, scene::CollisionMode::on);
-  // The thesis's crack tree in 22 fragments (window.json's own radial pattern has about 1 200,
+  // The thesis's crack tree in 22 fragments (window.json's own radial pattern has 1 880,
   // too many for a fast test, and with contacts too slow: docs/simulator.md).
   s.objects[0].fracture->growth_length_m = 0.035;
   const Result r = simulate(s).result;
